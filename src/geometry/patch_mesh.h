@@ -1,0 +1,47 @@
+#pragma once
+// PatchMesh: the radiosity patches. Patches are the mesh's triangles in scene order (DESIGN.md
+// section 2), each optionally subdivided until no edge is longer than maxEdge; the children of
+// one source triangle are consecutive. Vertices are welded (bitwise-equal positions are one
+// vertex) and subdivision is conforming, so neighbouring patches share their corners: no
+// T-junctions. Normals, areas and centroids are computed in double precision from the corners.
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/expected.h"
+#include "geometry/mesh.h"
+
+namespace daisy {
+
+struct PatchMesh {
+    std::vector<Vec3d> positions;                  // welded vertices, world space
+    std::vector<std::array<uint32_t, 3>> patches;  // corner indices, counter-clockwise
+    std::vector<uint32_t> sourceTriangle;          // per patch: triangle index in scene order
+    std::vector<uint32_t> materials;               // per patch: material index
+    std::vector<Vec3d> normals;                    // per patch: unit geometric (face) normal
+    std::vector<double> areas;                     // per patch: area, scene units squared
+    std::vector<Vec3d> centroids;                  // per patch
+    // Vertex -> patch adjacency (CSR): the patches touching vertex v are
+    // vertexPatches[vertexPatchOffsets[v] .. vertexPatchOffsets[v + 1]), in ascending order.
+    std::vector<uint64_t> vertexPatchOffsets;
+    std::vector<uint32_t> vertexPatches;
+
+    std::size_t patchCount() const { return patches.size(); }
+    std::size_t vertexCount() const { return positions.size(); }
+    std::span<const uint32_t> patchesAtVertex(uint32_t vertex) const {
+        return {vertexPatches.data() + vertexPatchOffsets[vertex],
+                vertexPatches.data() + vertexPatchOffsets[vertex + 1]};
+    }
+};
+
+// Upper bound on the patch count buildPatchMesh would produce for maxEdge (0 = no subdivision),
+// computed without subdividing, so absurd settings can be refused before memory is spent.
+uint64_t estimatePatchCount(const TriangleMesh& mesh, double maxEdge);
+
+// Builds the patches. maxEdge = 0 keeps the input triangles. Fails (no crash) when maxEdge is
+// negative or non-finite, or when the result would exceed maxPatches patches.
+Expected<PatchMesh> buildPatchMesh(const TriangleMesh& mesh, double maxEdge,
+                                   uint64_t maxPatches = UINT32_MAX);
+
+}  // namespace daisy

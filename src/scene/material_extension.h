@@ -1,0 +1,21 @@
+#pragma once
+// Parses a DAISY_materials_spectral object (DESIGN.md section 10) into typed data, checking
+// every value. `where` is the JSON path of `object` (e.g. "materials[2].extensions.
+// DAISY_materials_spectral"); error messages extend it to the offending member, e.g.
+// "materials[2].extensions.DAISY_materials_spectral.reflectance.values[3]: 1.2 is over 1".
+// The caller prefixes the file name.
+#include <string>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "core/expected.h"
+#include "scene/material.h"
+
+namespace daisy {
+
+inline constexpr const char* kSpectralExtensionName = "DAISY_materials_spectral";
+
+Expected<MaterialExtension> parseMaterialExtension(const nlohmann::json& object,
+                                                   const std::string& where);
+
+}  // namespace daisy

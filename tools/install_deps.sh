@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Installs every Debian package DaisyRiot builds, tests and runs with. Idempotent and
+# non-interactive: packages already present are left alone, and `apt-get update` runs only when
+# something is missing. Nothing is vendored and nothing is downloaded at build time.
+set -euo pipefail
+
+packages=(
+    # toolchain
+    build-essential cmake ninja-build pkg-config clang-format
+    # core libraries
+    libcli11-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyobjloader-dev
+    libembree-dev libtbb-dev libopenexr-dev
+    # Vulkan compute and the viewer
+    libvulkan-dev libvulkan-volk-dev glslang-tools spirv-tools mesa-vulkan-drivers vulkan-tools
+    libglfw3-dev libglm-dev libimgui-dev xvfb xauth
+    # tests and benchmarks
+    libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for p in "${packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if ((${#missing[@]})); then
+    sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    echo "install_deps: installing ${missing[*]}"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
