@@ -6,7 +6,7 @@ set -euo pipefail
 
 packages=(
     # toolchain
-    build-essential cmake ninja-build pkg-config clang-format
+    build-essential cmake ninja-build pkg-config clang-format python3
     # core libraries
     libcli11-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyobjloader-dev
     libembree-dev libtbb-dev libopenexr-dev

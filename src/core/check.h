@@ -18,22 +18,22 @@ namespace daisy::detail {
 
 }  // namespace daisy::detail
 
-#define DAISY_CHECK(condition)                                                 \
-    do {                                                                       \
-        if (!(condition)) {                                                    \
+#define DAISY_CHECK(condition)                                                \
+    do {                                                                      \
+        if (!(condition)) {                                                   \
             ::daisy::detail::checkFailed(#condition, __FILE__, __LINE__, ""); \
-        }                                                                      \
+        }                                                                     \
     } while (0)
 
 // DAISY_CHECK_OP(a, <, b) prints both operands when the comparison fails.
-#define DAISY_CHECK_OP(a, op, b)                                                               \
-    do {                                                                                       \
-        const auto& daisyCheckA_ = (a);                                                        \
-        const auto& daisyCheckB_ = (b);                                                        \
-        if (!(daisyCheckA_ op daisyCheckB_)) {                                                 \
-            std::ostringstream daisyCheckOut_;                                                 \
-            daisyCheckOut_ << #a " = " << daisyCheckA_ << ", " #b " = " << daisyCheckB_;       \
-            ::daisy::detail::checkFailed(#a " " #op " " #b, __FILE__, __LINE__,                \
-                                         daisyCheckOut_.str());                                \
-        }                                                                                      \
+#define DAISY_CHECK_OP(a, op, b)                                                         \
+    do {                                                                                 \
+        const auto& daisyCheckA_ = (a);                                                  \
+        const auto& daisyCheckB_ = (b);                                                  \
+        if (!(daisyCheckA_ op daisyCheckB_)) {                                           \
+            std::ostringstream daisyCheckOut_;                                           \
+            daisyCheckOut_ << #a " = " << daisyCheckA_ << ", " #b " = " << daisyCheckB_; \
+            ::daisy::detail::checkFailed(#a " " #op " " #b, __FILE__, __LINE__,          \
+                                         daisyCheckOut_.str());                          \
+        }                                                                                \
     } while (0)

@@ -14,21 +14,30 @@ void print(const char* prefix, const std::string& message) {
 
 }  // namespace
 
-void setVerbosity(Verbosity value) { gVerbosity = value; }
-Verbosity verbosity() { return gVerbosity; }
+void setVerbosity(Verbosity value) {
+    gVerbosity = value;
+}
+Verbosity verbosity() {
+    return gVerbosity;
+}
 
 void logWarning(const std::string& message) {
-    if (gVerbosity != Verbosity::Quiet) print("warning: ", message);
+    if (gVerbosity != Verbosity::Quiet)
+        print("warning: ", message);
 }
 
 void logInfo(const std::string& message) {
-    if (gVerbosity != Verbosity::Quiet) print("", message);
+    if (gVerbosity != Verbosity::Quiet)
+        print("", message);
 }
 
 void logVerbose(const std::string& message) {
-    if (gVerbosity == Verbosity::Verbose) print("", message);
+    if (gVerbosity == Verbosity::Verbose)
+        print("", message);
 }
 
-void logError(const std::string& message) { print("error: ", message); }
+void logError(const std::string& message) {
+    print("error: ", message);
+}
 
 }  // namespace daisy

@@ -11,8 +11,8 @@ void setVerbosity(Verbosity verbosity);
 Verbosity verbosity();
 
 void logWarning(const std::string& message);  // "warning: ...", hidden by --quiet
-void logInfo(const std::string& message);     // hidden by --quiet
+void logInfo(const std::string& message);  // hidden by --quiet
 void logVerbose(const std::string& message);  // shown only with --verbose
-void logError(const std::string& message);    // "error: ...", always shown
+void logError(const std::string& message);  // "error: ...", always shown
 
 }  // namespace daisy

@@ -9,7 +9,8 @@ namespace daisy {
 
 std::string toLower(std::string_view text) {
     std::string out(text);
-    for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    for (char& c : out)
+        c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return out;
 }
 
@@ -24,7 +25,10 @@ std::string formatBytes(double bytes) {
     if (unit == 0) {
         std::snprintf(buffer, sizeof buffer, "%.0f B", bytes);
     } else {
-        std::snprintf(buffer, sizeof buffer, bytes < 10 ? "%.2f %s" : bytes < 100 ? "%.1f %s" : "%.0f %s",
+        std::snprintf(buffer, sizeof buffer,
+                      bytes < 10        ? "%.2f %s"
+                          : bytes < 100 ? "%.1f %s"
+                                        : "%.0f %s",
                       bytes, kUnits[unit]);
     }
     return buffer;
@@ -35,9 +39,11 @@ bool parseByteSize(std::string_view text, std::uint64_t& bytes) {
     const char* begin = s.c_str();
     char* end = nullptr;
     const double number = std::strtod(begin, &end);
-    if (end == begin || !std::isfinite(number) || number < 0) return false;
+    if (end == begin || !std::isfinite(number) || number < 0)
+        return false;
     std::string suffix = toLower(std::string_view(end));
-    while (!suffix.empty() && suffix.front() == ' ') suffix.erase(suffix.begin());
+    while (!suffix.empty() && suffix.front() == ' ')
+        suffix.erase(suffix.begin());
     double scale = 1;
     if (!suffix.empty()) {
         const char unit = suffix.front();
@@ -47,13 +53,16 @@ bool parseByteSize(std::string_view text, std::uint64_t& bytes) {
         } else {
             const std::string_view prefixes = "kmgtp";
             const std::size_t power = prefixes.find(unit);
-            if (power == std::string_view::npos) return false;
-            if (!(rest.empty() || rest == "b" || rest == "i" || rest == "ib")) return false;
+            if (power == std::string_view::npos)
+                return false;
+            if (!(rest.empty() || rest == "b" || rest == "i" || rest == "ib"))
+                return false;
             scale = std::pow(1024.0, static_cast<double>(power + 1));
         }
     }
     const double value = number * scale;
-    if (value >= 1.8e19) return false;
+    if (value >= 1.8e19)
+        return false;
     bytes = static_cast<std::uint64_t>(std::llround(value));
     return true;
 }

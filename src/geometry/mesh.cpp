@@ -5,7 +5,8 @@ namespace daisy {
 Bounds3d meshBounds(const TriangleMesh& mesh) {
     Bounds3d bounds;
     for (const auto& triangle : mesh.triangles) {
-        for (uint32_t v : triangle) bounds.extend(mesh.positions[v]);
+        for (uint32_t v : triangle)
+            bounds.extend(mesh.positions[v]);
     }
     return bounds;
 }

@@ -12,9 +12,9 @@
 namespace daisy {
 
 struct TriangleMesh {
-    std::vector<Vec3d> positions;                    // world space
+    std::vector<Vec3d> positions;  // world space
     std::vector<std::array<uint32_t, 3>> triangles;  // indices into positions
-    std::vector<uint32_t> materials;                 // per triangle, index into Scene::materials
+    std::vector<uint32_t> materials;  // per triangle, index into Scene::materials
 
     std::size_t triangleCount() const { return triangles.size(); }
     Vec3d corner(std::size_t triangle, int k) const { return positions[triangles[triangle][k]]; }

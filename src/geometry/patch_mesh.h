@@ -15,13 +15,13 @@
 namespace daisy {
 
 struct PatchMesh {
-    std::vector<Vec3d> positions;                  // welded vertices, world space
+    std::vector<Vec3d> positions;  // welded vertices, world space
     std::vector<std::array<uint32_t, 3>> patches;  // corner indices, counter-clockwise
-    std::vector<uint32_t> sourceTriangle;          // per patch: triangle index in scene order
-    std::vector<uint32_t> materials;               // per patch: material index
-    std::vector<Vec3d> normals;                    // per patch: unit geometric (face) normal
-    std::vector<double> areas;                     // per patch: area, scene units squared
-    std::vector<Vec3d> centroids;                  // per patch
+    std::vector<uint32_t> sourceTriangle;  // per patch: triangle index in scene order
+    std::vector<uint32_t> materials;  // per patch: material index
+    std::vector<Vec3d> normals;  // per patch: unit geometric (face) normal
+    std::vector<double> areas;  // per patch: area, scene units squared
+    std::vector<Vec3d> centroids;  // per patch
     // Vertex -> patch adjacency (CSR): the patches touching vertex v are
     // vertexPatches[vertexPatchOffsets[v] .. vertexPatchOffsets[v + 1]), in ascending order.
     std::vector<uint64_t> vertexPatchOffsets;

@@ -11,10 +11,10 @@ namespace daisy {
 
 struct MatrixEstimate {
     uint64_t patchCount = 0;
-    double facingFraction = 0;   // of ordered pairs i != j, in [0, 1]
-    bool sampled = false;        // true when facingFraction comes from a sample of pairs
-    uint64_t nonzeros = 0;       // estimated stored entries
-    uint64_t matrixBytes = 0;    // CSR: 8 (n + 1) + (4 + 4) x nonzeros
+    double facingFraction = 0;  // of ordered pairs i != j, in [0, 1]
+    bool sampled = false;  // true when facingFraction comes from a sample of pairs
+    uint64_t nonzeros = 0;  // estimated stored entries
+    uint64_t matrixBytes = 0;  // CSR: 8 (n + 1) + (4 + 4) x nonzeros
 };
 
 MatrixEstimate estimateMatrixMemory(const PatchMesh& mesh);

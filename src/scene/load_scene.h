@@ -10,7 +10,7 @@
 namespace daisy {
 
 enum class MtlConvention {
-    Standard,   // Kd reflectance, Ke emission
+    Standard,  // Kd reflectance, Ke emission
     DaisyRiot,  // also: Ks = fluorescent colour; black Kd with non-zero Ke = UV lamp (blacklight)
 };
 

@@ -20,12 +20,12 @@ struct MaterialExtension {
 
 struct Material {
     std::string name;
-    std::string origin;                              // "scene.gltf: materials[2]", for messages
+    std::string origin;  // "scene.gltf: materials[2]", for messages
     std::array<double, 3> baseColor{0.8, 0.8, 0.8};  // linear sRGB reflectance, each in [0, 1]
-    std::array<double, 3> emissiveRgb{0, 0, 0};      // linear sRGB emission x strength, >= 0
+    std::array<double, 3> emissiveRgb{0, 0, 0};  // linear sRGB emission x strength, >= 0
     MaterialExtension spectral;
 
-    bool isEmissive() const;     // a non-zero emission spectrum or RGB emission
+    bool isEmissive() const;  // a non-zero emission spectrum or RGB emission
     bool isFluorescent() const;  // has a fluorescence description
 };
 

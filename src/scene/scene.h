@@ -15,11 +15,11 @@ struct Camera {
     std::string name;
     Vec3d position;
     Vec3d forward{0, 0, -1};  // unit
-    Vec3d up{0, 1, 0};        // unit, orthogonal to forward
-    double yFovRad = 0.8;     // vertical field of view, radians
-    double aspectRatio = 0;   // width / height; 0 = take it from the image size
+    Vec3d up{0, 1, 0};  // unit, orthogonal to forward
+    double yFovRad = 0.8;  // vertical field of view, radians
+    double aspectRatio = 0;  // width / height; 0 = take it from the image size
     double zNear = 0.01;
-    double zFar = 0;          // 0 = infinite
+    double zFar = 0;  // 0 = infinite
 };
 
 struct Scene {

@@ -37,8 +37,8 @@ struct GaussianSpectrum {
     double fwhmNm = 0;
 };
 
-using SpectrumShape =
-    std::variant<RgbSpectrum, TabulatedSpectrum, PresetSpectrum, BlackbodySpectrum, GaussianSpectrum>;
+using SpectrumShape = std::variant<RgbSpectrum, TabulatedSpectrum, PresetSpectrum,
+                                   BlackbodySpectrum, GaussianSpectrum>;
 
 struct SpectrumSpec {
     SpectrumShape shape;

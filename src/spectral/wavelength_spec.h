@@ -13,10 +13,10 @@ namespace daisy {
 struct WavelengthSpec {
     enum class Kind { Preset, Range, List };
     Kind kind = Kind::Preset;
-    std::string preset = "auto";      // daisyriot | meyer4 | visible | fine | auto
-    double startNm = 0, endNm = 0;    // Range: start..end inclusive
-    double stepNm = 0;                // Range: > 0
-    std::vector<double> listNm;       // List: strictly ascending
+    std::string preset = "auto";  // daisyriot | meyer4 | visible | fine | auto
+    double startNm = 0, endNm = 0;  // Range: start..end inclusive
+    double stepNm = 0;  // Range: > 0
+    std::vector<double> listNm;  // List: strictly ascending
 };
 
 // Wavelengths accepted anywhere in the program: [kMinWavelengthNm, kMaxWavelengthNm].

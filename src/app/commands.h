@@ -1,0 +1,13 @@
+#pragma once
+// The subcommands behind `daisy`. Each returns the process exit status: 0 done, 2 bad usage or
+// bad input (message already printed), 1 any other failure.
+#include "app/options.h"
+
+namespace daisy::app {
+
+int runInfo(const CommonOptions& options);
+
+// For subcommands whose stage has not landed: says so on stderr and returns 2.
+int notBuiltYet(const char* command, const char* stage);
+
+}  // namespace daisy::app

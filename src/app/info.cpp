@@ -1,0 +1,100 @@
+#include <cstdio>
+#include <string>
+
+#include "app/commands.h"
+#include "core/log.h"
+#include "core/strings.h"
+#include "geometry/patch_mesh.h"
+#include "radiosity/matrix_estimate.h"
+
+namespace daisy::app {
+namespace {
+
+void printRow(const char* label, const std::string& value) {
+    std::printf("%-14s %s\n", label, value.c_str());
+}
+
+std::string materialList(const Scene& scene) {
+    std::string out;
+    for (const Material& material : scene.materials) {
+        out += "\n    " + material.name;
+        if (material.isEmissive())
+            out += " (emissive)";
+        if (material.isFluorescent())
+            out += " (fluorescent)";
+    }
+    return out;
+}
+
+std::string cameraList(const Scene& scene) {
+    std::string out;
+    for (const Camera& camera : scene.cameras)
+        out += (out.empty() ? "" : ", ") + camera.name;
+    return out.empty() ? "none (automatic framing)" : out;
+}
+
+}  // namespace
+
+int runInfo(const CommonOptions& options) {
+    auto scene = loadScene(options.scenePath, options.sceneLoadOptions());
+    if (!scene) {
+        logError(scene.error().message);
+        return 2;
+    }
+    for (const std::string& warning : scene->warnings)
+        logWarning(warning);
+
+    const TriangleMesh& mesh = scene->mesh;
+    const uint64_t patchEstimate = estimatePatchCount(mesh, options.subdivideMaxEdge);
+    auto patches = buildPatchMesh(mesh, options.subdivideMaxEdge);
+    if (!patches) {
+        logError(concat(options.scenePath, ": ", patches.error().message));
+        return 2;
+    }
+    const MatrixEstimate matrix = estimateMatrixMemory(*patches);
+    const Bounds3d bounds = meshBounds(mesh);
+
+    std::size_t emissive = 0, fluorescent = 0;
+    for (const Material& material : scene->materials) {
+        emissive += material.isEmissive();
+        fluorescent += material.isFluorescent();
+    }
+
+    printRow("scene", scene->path);
+    printRow("triangles",
+             concat(mesh.triangleCount(),
+                    scene->degenerateDropped
+                        ? concat(" (", scene->degenerateDropped, " degenerate dropped)")
+                        : std::string()));
+    printRow("patches",
+             options.subdivideMaxEdge > 0
+                 ? concat(patches->patchCount(), " (subdivided to edges <= ",
+                          options.subdivideMaxEdge, "; bound ", patchEstimate, ")")
+                 : concat(patches->patchCount(), " (no subdivision)"));
+    printRow("vertices", concat(patches->vertexCount(), " (welded)"));
+    printRow("materials",
+             concat(scene->materials.size(), ": ", emissive, " emissive, ", fluorescent,
+                    " fluorescent", materialList(*scene)));
+    printRow("cameras", concat(scene->cameras.size(), ": ", cameraList(*scene)));
+    printRow("bounds", concat(bounds.lo, " .. ", bounds.hi));
+    printRow("total area", concat(meshArea(mesh), " (scene units squared)"));
+    printRow("matrix",
+             concat("~", matrix.nonzeros, " non-zeros (", 100.0 * matrix.facingFraction,
+                    "% of pairs face each other", matrix.sampled ? ", sampled" : "", "), ",
+                    formatBytes(static_cast<double>(matrix.matrixBytes)), " as CSR"));
+    if (matrix.matrixBytes > options.maxMemoryBytes) {
+        printRow(
+            "",
+            concat("over --max-memory ", formatBytes(static_cast<double>(options.maxMemoryBytes)),
+                   ": a form-factor build would be refused; use a larger --subdivide"));
+    }
+    return 0;
+}
+
+int notBuiltYet(const char* command, const char* stage) {
+    logError(concat("daisy ", command, ": not built yet: ", stage,
+                    " has not landed in this version (see `daisy --help`)"));
+    return 2;
+}
+
+}  // namespace daisy::app

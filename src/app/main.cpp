@@ -1,0 +1,114 @@
+// `daisy`: parse the command line, call the library, print. DESIGN.md section 9.
+#include <cstdio>
+
+#include "app/commands.h"
+#include "core/log.h"
+
+using namespace daisy::app;
+
+int main(int argc, char** argv) {
+    CLI::App app{"DaisyRiot: spectral radiosity with fluorescent materials", "daisy"};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", "daisy 0.1.0");
+
+    CommonOptions common;
+    RenderOptions render;
+    ViewOptions view;
+    ExportOptions exports;
+    ValidateOptions validate;
+    BenchOptions bench;
+
+    auto* renderCmd = app.add_subcommand("render", "Solve a scene and render it to an image");
+    addCommonOptions(*renderCmd, common);
+    renderCmd->add_option("-o,--output", render.outputPath, "Image file (.png, .exr, .pfm)")
+        ->check([](const std::string& path) {
+            for (const char* ext : {".png", ".exr", ".pfm"}) {
+                if (path.size() > 4 && path.compare(path.size() - 4, 4, ext) == 0)
+                    return "";
+            }
+            return "the image must end in .png, .exr or .pfm";
+        })
+        ->capture_default_str();
+    renderCmd->add_option("--width", render.width, "Image width")->check(CLI::Range(1, 16384));
+    renderCmd->add_option("--height", render.height, "Image height")->check(CLI::Range(1, 16384));
+    renderCmd->add_option("--camera", render.camera, "Camera name or index");
+    renderCmd->add_option("--spp", render.samplesPerPixel, "Samples per pixel")
+        ->check(CLI::Range(1, 4096));
+    renderCmd->add_option("--exposure", render.exposure, "Exposure in EV, or auto")
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                return text == "auto" || CLI::Number(text).empty() ? std::string()
+                                                                   : "use a number of EV or auto";
+            },
+            "EV|auto"));
+
+    auto* solveCmd = app.add_subcommand("solve", "Solve spectral radiosity");
+    addCommonOptions(*solveCmd, common);
+    solveCmd->add_option("--patches-out", exports.patchesPath, "Write patches as CSV");
+
+    auto* formFactorsCmd = app.add_subcommand("formfactors", "Compute the view-factor matrix");
+    addCommonOptions(*formFactorsCmd, common);
+    formFactorsCmd->add_option("-o,--output", exports.matrixPath, "Matrix Market file")->required();
+    formFactorsCmd->add_option("--patches-out", exports.patchesPath, "Write patches as CSV");
+
+    auto* infoCmd = app.add_subcommand("info", "Describe a scene and the cost of solving it");
+    addCommonOptions(*infoCmd, common);
+
+    auto* viewCmd = app.add_subcommand("view", "Interactive viewer with a materials editor");
+    addCommonOptions(*viewCmd, common);
+    viewCmd->add_option("--screenshot", view.screenshotPath, "Save a PNG of the last frame");
+    viewCmd->add_option("--frames", view.frames, "Frames to show, then exit")
+        ->check(CLI::Range(1, 1000000));
+
+    auto* validateCmd = app.add_subcommand("validate", "Compare a backend's matrix to another's");
+    addCommonOptions(*validateCmd, common);
+    validateCmd->add_option("--against", validate.against, "Backend to compare with")
+        ->check(CLI::IsMember({"reference", "cpu"}))
+        ->capture_default_str();
+
+    auto* benchCmd = app.add_subcommand("bench", "Benchmark run time against error");
+    addCommonOptions(*benchCmd, common, /*sceneRequired=*/false);
+    benchCmd->add_flag("--stress", bench.stress, "Run the numerical stress suite");
+    benchCmd->add_option("-o,--output", bench.outputPath, "CSV of the results");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForVersion& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::fprintf(stderr, "error: %s (see daisy --help)\n", e.what());
+        return 2;
+    }
+
+    if (std::string message = finishCommonOptions(common); !message.empty()) {
+        daisy::logError(message);
+        return 2;
+    }
+    daisy::setVerbosity(common.quiet         ? daisy::Verbosity::Quiet
+                            : common.verbose ? daisy::Verbosity::Verbose
+                                             : daisy::Verbosity::Normal);
+
+    if (*infoCmd)
+        return runInfo(common);
+    if (*validateCmd && common.backend != "vulkan" && common.backend != "cuda") {
+        daisy::logError("daisy validate: --backend must be vulkan or cuda");
+        return 2;
+    }
+    if (*renderCmd)
+        return notBuiltYet("render", "the image renderer");
+    if (*solveCmd)
+        return notBuiltYet("solve", "the radiosity solver");
+    if (*formFactorsCmd)
+        return notBuiltYet("formfactors", "the view-factor matrix");
+    if (*viewCmd)
+        return notBuiltYet("view", "the viewer");
+    if (*validateCmd)
+        return notBuiltYet("validate", "the GPU backends");
+    if (*benchCmd)
+        return notBuiltYet("bench", "the benchmark driver");
+    return 1;
+}

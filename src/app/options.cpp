@@ -1,0 +1,110 @@
+#include "app/options.h"
+
+#include <unistd.h>
+
+#include "core/strings.h"
+
+namespace daisy::app {
+namespace {
+
+// Checks a --wavelengths value with the spectral module's parser, so CLI11 reports it.
+const CLI::Validator kWavelengthSet(
+    [](std::string& text) {
+        auto spec = parseWavelengthSpec(text);
+        return spec ? std::string() : spec.error().message;
+    },
+    "SET", "wavelength set");
+
+const CLI::Validator kByteSize(
+    [](std::string& text) {
+        uint64_t bytes = 0;
+        if (!parseByteSize(text, bytes) || bytes == 0) {
+            return concat("'", text, "' is not a memory size (e.g. 4G, 512MiB, 1000000)");
+        }
+        return std::string();
+    },
+    "BYTES", "memory size");
+
+}  // namespace
+
+SceneLoadOptions CommonOptions::sceneLoadOptions() const {
+    SceneLoadOptions load;
+    load.mtlConvention =
+        mtlConvention == "daisyriot" ? MtlConvention::DaisyRiot : MtlConvention::Standard;
+    load.materialsPath = materialsPath;
+    return load;
+}
+
+void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequired) {
+    auto* scene = command.add_option("SCENE", options.scenePath, "Scene file (.gltf, .glb, .obj)")
+                      ->check(CLI::ExistingFile);
+    if (sceneRequired)
+        scene->required();
+
+    command.add_option("--backend", options.backend, "Form-factor backend")
+        ->check(CLI::IsMember({"auto", "cpu", "reference", "vulkan", "cuda"}))
+        ->capture_default_str();
+    command.add_option("--method", options.method, "Form-factor method")
+        ->check(CLI::IsMember({"hybrid", "riemann", "nusselt", "stochastic"}))
+        ->capture_default_str();
+    command.add_option("--quadrature", options.quadratureLevel, "Quadrature level L (4^L points)")
+        ->check(CLI::Range(0, 6))
+        ->capture_default_str();
+    command.add_option("--rays", options.raysPerPair, "Shadow rays per pair (0 = no visibility)")
+        ->check(CLI::Range(0, 4096))
+        ->capture_default_str();
+    command
+        .add_option("--subdivide", options.subdivideMaxEdge,
+                    "Subdivide patches to this maximum edge length (0 = none)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    command.add_option("--wavelengths", options.wavelengths, "Wavelength set")
+        ->check(kWavelengthSet)
+        ->capture_default_str();
+    command.add_option("--solver", options.solver, "Radiosity solver")
+        ->check(CLI::IsMember({"gauss-seidel", "jacobi", "southwell"}))
+        ->capture_default_str();
+    command.add_option("--tolerance", options.tolerance, "Relative residual to stop at")
+        ->check(CLI::Range(1e-12, 0.5))
+        ->capture_default_str();
+    command.add_option("--max-iterations", options.maxIterations, "Iteration limit")
+        ->check(CLI::Range(1, 100000000))
+        ->capture_default_str();
+    command.add_option("--threads", options.threads, "Worker threads (0 = all cores)")
+        ->check(CLI::Range(0, 4096))
+        ->capture_default_str();
+    command.add_option("--seed", options.seed, "Seed of the sample sequences")
+        ->capture_default_str();
+    command.add_option("--cache", options.cacheDir, "Directory of the form-factor cache");
+    command
+        .add_option("--max-memory", options.maxMemoryText,
+                    "Refuse work needing more memory (default: 80% of RAM)")
+        ->check(kByteSize);
+    auto* quiet = command.add_flag("--quiet,-q", options.quiet, "No progress or warnings");
+    command.add_flag("--verbose,-v", options.verbose, "More detail")->excludes(quiet);
+    command.add_option("--mtl-convention", options.mtlConvention, "How MTL files are read")
+        ->check(CLI::IsMember({"standard", "daisyriot"}))
+        ->capture_default_str();
+    command.add_option("--materials", options.materialsPath, "JSON file overriding materials")
+        ->check(CLI::ExistingFile);
+}
+
+std::string finishCommonOptions(CommonOptions& options) {
+    options.wavelengthSpec = *parseWavelengthSpec(options.wavelengths);
+    if (options.maxMemoryText.empty()) {
+        options.maxMemoryBytes = physicalMemoryBytes() / 10 * 8;
+    } else {
+        parseByteSize(options.maxMemoryText, options.maxMemoryBytes);
+    }
+    return {};
+}
+
+uint64_t physicalMemoryBytes() {
+    const long pages = sysconf(_SC_PHYS_PAGES);
+    const long pageSize = sysconf(_SC_PAGE_SIZE);
+    if (pages <= 0 || pageSize <= 0)
+        return 0;
+    return static_cast<uint64_t>(pages) * static_cast<uint64_t>(pageSize);
+}
+
+}  // namespace daisy::app

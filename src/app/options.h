@@ -1,0 +1,78 @@
+#pragma once
+// The options of the `daisy` command line (DESIGN.md section 9), parsed and range-checked by
+// CLI11 before any work starts. Stages that land later read the same structs.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "scene/load_scene.h"
+#include "spectral/wavelength_spec.h"
+
+namespace daisy::app {
+
+struct CommonOptions {
+    std::string scenePath;
+    std::string backend = "auto";  // auto | cpu | reference | vulkan | cuda
+    std::string method = "hybrid";  // hybrid | riemann | nusselt | stochastic
+    int quadratureLevel = 1;  // L: 4^L points per patch
+    int raysPerPair = 16;  // K shadow rays per pair; 0 = no visibility test
+    double subdivideMaxEdge = 0;  // scene units; 0 = keep the input triangles
+    std::string wavelengths = "auto";  // see spectral/wavelength_spec.h
+    WavelengthSpec wavelengthSpec;  // parsed from `wavelengths`
+    std::string solver = "gauss-seidel";  // gauss-seidel | jacobi | southwell
+    double tolerance = 1e-4;  // relative residual
+    int maxIterations = 1000;
+    int threads = 0;  // 0 = all hardware threads
+    uint64_t seed = 1;
+    std::string cacheDir;  // empty = no disk cache
+    std::string maxMemoryText;  // as typed; parsed into maxMemoryBytes
+    uint64_t maxMemoryBytes = 0;  // default: 80% of physical memory
+    bool quiet = false;
+    bool verbose = false;
+    std::string mtlConvention = "standard";  // standard | daisyriot
+    std::string materialsPath;  // --materials FILE.json
+
+    SceneLoadOptions sceneLoadOptions() const;
+};
+
+struct RenderOptions {
+    std::string outputPath = "render.png";
+    int width = 640;
+    int height = 480;
+    std::string camera;  // name or index; empty = first camera or automatic framing
+    int samplesPerPixel = 1;
+    std::string exposure = "auto";  // "auto" or a fixed EV
+};
+
+struct ViewOptions {
+    std::string screenshotPath;
+    int frames = 0;  // 0 = run until the window closes
+};
+
+struct ExportOptions {
+    std::string matrixPath;  // formfactors -o
+    std::string patchesPath;  // --patches-out
+};
+
+struct ValidateOptions {
+    std::string against = "reference";
+};
+
+struct BenchOptions {
+    bool stress = false;
+    std::string outputPath;  // CSV
+};
+
+// Adds the scene argument and the common options to a subcommand.
+void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequired = true);
+
+// Cross-option checks CLI11 cannot express; returns an error message or empty. Fills the
+// parsed fields (wavelengthSpec, maxMemoryBytes).
+std::string finishCommonOptions(CommonOptions& options);
+
+// Physical memory of this machine in bytes (0 when unknown).
+uint64_t physicalMemoryBytes();
+
+}  // namespace daisy::app

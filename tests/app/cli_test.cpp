@@ -1,0 +1,130 @@
+// Runs the `daisy` executable and checks the command-line contract of DESIGN.md section 9:
+// exit status 0 done, 2 bad usage or input with a one-line message naming the problem.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <string>
+
+#include "test_util.h"
+
+namespace daisy {
+namespace {
+
+struct RunResult {
+    int status = -1;
+    std::string output;  // stdout and stderr
+};
+
+RunResult runDaisy(const std::string& arguments) {
+    RunResult result;
+    const std::string command = std::string(DAISY_EXE_PATH) + " " + arguments + " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe)
+        return result;
+    std::array<char, 4096> buffer;
+    std::size_t count;
+    while ((count = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) {
+        result.output.append(buffer.data(), count);
+    }
+    const int raw = pclose(pipe);
+    result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    return result;
+}
+
+std::string cornellBox() {
+    return std::string(DAISY_ASSETS_DIR) + "/scenes/cornell_box.gltf";
+}
+
+int lineCount(const std::string& text) {
+    int lines = 0;
+    for (char c : text)
+        lines += c == '\n';
+    return lines;
+}
+
+TEST(Cli, InfoDescribesTheCornellBox) {
+    const RunResult run = runDaisy("info " + cornellBox());
+    ASSERT_EQ(run.status, 0) << run.output;
+    EXPECT_NE(run.output.find("triangles      32"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("patches        32 (no subdivision)"), std::string::npos);
+    EXPECT_NE(run.output.find("emitter (emissive)"), std::string::npos);
+    EXPECT_NE(run.output.find("cameras        1: measured"), std::string::npos);
+    EXPECT_NE(run.output.find("as CSR"), std::string::npos);
+}
+
+TEST(Cli, InfoWithSubdivisionCountsMorePatches) {
+    const RunResult run = runDaisy("info " + cornellBox() + " --subdivide 0.1");
+    ASSERT_EQ(run.status, 0) << run.output;
+    EXPECT_NE(run.output.find("(subdivided to edges <= 0.1"), std::string::npos) << run.output;
+}
+
+TEST(Cli, HelpAndVersionExitZero) {
+    EXPECT_EQ(runDaisy("--help").status, 0);
+    EXPECT_EQ(runDaisy("render --help").status, 0);
+    const RunResult version = runDaisy("--version");
+    EXPECT_EQ(version.status, 0);
+    EXPECT_NE(version.output.find("daisy 0.1.0"), std::string::npos);
+}
+
+// Each bad invocation gets exit status 2 and one line that names what is wrong.
+TEST(Cli, BadUsageIsOneLineAndExitTwo) {
+    const std::string scene = cornellBox();
+    const std::pair<std::string, std::string> cases[] = {
+        {"", "subcommand"},
+        {"paint " + scene, "paint"},
+        {"info", "SCENE"},
+        {"info /nonexistent.gltf", "/nonexistent.gltf"},
+        {"info " + scene + " --frobnicate", "--frobnicate"},
+        {"info " + scene + " --method fancy", "fancy"},
+        {"info " + scene + " --backend metal", "metal"},
+        {"info " + scene + " --rays -1", "--rays"},
+        {"info " + scene + " --quadrature 9", "--quadrature"},
+        {"info " + scene + " --subdivide -0.5", "--subdivide"},
+        {"info " + scene + " --subdivide abc", "--subdivide"},
+        {"info " + scene + " --wavelengths 700:400:10", "700:400:10"},
+        {"info " + scene + " --wavelengths rgb", "rgb"},
+        {"info " + scene + " --solver newton", "newton"},
+        {"info " + scene + " --tolerance 0", "--tolerance"},
+        {"info " + scene + " --max-iterations 0", "--max-iterations"},
+        {"info " + scene + " --max-memory lots", "lots"},
+        {"info " + scene + " --quiet --verbose", "--verbose"},
+        {"info " + scene + " --mtl-convention wavefront", "wavefront"},
+        {"info " + scene + " --materials /nonexistent.json", "/nonexistent.json"},
+        {"render " + scene + " -o out.jpg", ".png"},
+        {"render " + scene + " --width 0", "--width"},
+        {"render " + scene + " --exposure bright", "bright"},
+        {"formfactors " + scene, "--output"},
+        {"validate " + scene + " --backend cpu", "vulkan or cuda"},
+    };
+    for (const auto& [arguments, mention] : cases) {
+        const RunResult run = runDaisy(arguments);
+        EXPECT_EQ(run.status, 2) << arguments << "\n" << run.output;
+        EXPECT_EQ(lineCount(run.output), 1) << arguments << "\n" << run.output;
+        EXPECT_NE(run.output.find(mention), std::string::npos) << arguments << "\n" << run.output;
+    }
+}
+
+TEST(Cli, BadSceneContentIsExitTwoNamingTheFile) {
+    const auto dir = test::testTempDir();
+    const std::string bad = test::writeFile(dir, "broken.gltf", "{ \"asset\": { \"version\": ");
+    const RunResult run = runDaisy("info " + bad);
+    EXPECT_EQ(run.status, 2) << run.output;
+    EXPECT_NE(run.output.find("broken.gltf"), std::string::npos) << run.output;
+}
+
+TEST(Cli, StagesNotBuiltYetSaySoAndExitTwo) {
+    const std::string scene = cornellBox();
+    for (const char* command : {"render", "solve", "view", "bench"}) {
+        const RunResult run = runDaisy(std::string(command) + " " + scene);
+        EXPECT_EQ(run.status, 2) << command;
+        EXPECT_NE(run.output.find("not built yet"), std::string::npos) << run.output;
+    }
+    const RunResult formFactors = runDaisy("formfactors " + scene + " -o /tmp/F.mtx");
+    EXPECT_EQ(formFactors.status, 2);
+    EXPECT_NE(formFactors.output.find("not built yet"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace daisy

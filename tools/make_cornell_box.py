@@ -1,0 +1,157 @@
+#!/usr/bin/env python3
+"""Generates assets/scenes/cornell_box.gltf from assets/reference/cornell_box.json.
+
+The measured Cornell box (Cornell Program of Computer Graphics, "Cornell Box Data"): geometry in
+millimetres converted to metres, tabulated reflectances and the light's relative spectrum written
+as DAISY_materials_spectral (DESIGN.md section 10). Every face is wound so its normal points into
+the room: walls face the room's centre, block faces face away from their block's centre.
+The RGB fallback colours (for viewers without the extension) are band means of the reflectance
+(R 600-700 nm, G 500-600 nm, B 400-500 nm), not a colorimetric conversion.
+
+Usage: make_cornell_box.py [--check]   (--check: exit 1 if the committed file differs)
+"""
+import base64
+import math
+import json
+import struct
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+SOURCE = ROOT / "assets" / "reference" / "cornell_box.json"
+TARGET = ROOT / "assets" / "scenes" / "cornell_box.gltf"
+EXTENSION = "DAISY_materials_spectral"
+MM = 0.001
+
+
+def sub(a, b):
+    return [a[i] - b[i] for i in range(3)]
+
+
+def cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def dot(a, b):
+    return sum(a[i] * b[i] for i in range(3))
+
+
+def centre(points):
+    return [sum(p[i] for p in points) / len(points) for i in range(3)]
+
+
+def band_mean(wavelengths, values, lo, hi):
+    picked = [v for w, v in zip(wavelengths, values) if lo <= w <= hi]
+    return round(sum(picked) / len(picked), 4)
+
+
+def oriented_quad(quad, inside_point, outward):
+    """Returns the quad wound so its normal points towards inside_point (or away, if outward)."""
+    normal = cross(sub(quad[1], quad[0]), sub(quad[2], quad[0]))
+    towards = dot(normal, sub(inside_point, centre(quad)))
+    if (towards < 0) != outward:
+        return [quad[0], quad[3], quad[2], quad[1]]
+    return quad
+
+
+def build():
+    data = json.loads(SOURCE.read_text())
+    surfaces = data["surfaces"]
+    room = [s for s in surfaces if not s["name"].startswith(("short_block", "tall_block"))]
+    room_centre = centre([p for s in room for p in s["quad"]])
+    block_centres = {}
+    for prefix in ("short_block", "tall_block"):
+        block_centres[prefix] = centre(
+            [p for s in surfaces if s["name"].startswith(prefix) for p in s["quad"]])
+
+    reflectance = data["reflectance"]
+    wavelengths = reflectance["wavelength_nm"]
+    material_names = ["white", "red", "green", "emitter"]
+    materials = []
+    for name in material_names:
+        values = reflectance[name if name != "emitter" else "white"]
+        material = {
+            "name": name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [band_mean(wavelengths, values, 600, 700),
+                                    band_mean(wavelengths, values, 500, 600),
+                                    band_mean(wavelengths, values, 400, 500), 1.0],
+                "metallicFactor": 0.0, "roughnessFactor": 1.0},
+            "extensions": {EXTENSION: {
+                "reflectance": {"wavelengths": wavelengths, "values": values}}},
+        }
+        if name == "emitter":
+            light = data["light_emission"]
+            material["emissiveFactor"] = [1.0, 0.85, 0.65]
+            material["extensions"][EXTENSION]["emission"] = {
+                "wavelengths": light["wavelength_nm"], "values": light["relative_radiance"],
+                "scale": 1.0}
+        materials.append(material)
+
+    blob = bytearray()
+    accessors, buffer_views, meshes, nodes = [], [], [], []
+    for surface in surfaces:
+        prefix = next((p for p in block_centres if surface["name"].startswith(p)), None)
+        if prefix is None:
+            quad = oriented_quad(surface["quad"], room_centre, outward=False)
+        else:
+            quad = oriented_quad(surface["quad"], block_centres[prefix], outward=True)
+        corners = [[c * MM for c in p] for p in quad]
+        positions = [corners[0], corners[1], corners[2], corners[0], corners[2], corners[3]]
+        offset = len(blob)
+        for p in positions:
+            blob += struct.pack("<3f", *p)
+        buffer_views.append({"buffer": 0, "byteOffset": offset, "byteLength": 72})
+        accessors.append({
+            "bufferView": len(buffer_views) - 1, "componentType": 5126, "count": 6,
+            "type": "VEC3",
+            "min": [min(p[i] for p in positions) for i in range(3)],
+            "max": [max(p[i] for p in positions) for i in range(3)]})
+        material = material_names.index(surface["material"])
+        meshes.append({"name": surface["name"], "primitives": [
+            {"attributes": {"POSITION": len(accessors) - 1}, "material": material, "mode": 4}]})
+        nodes.append({"name": surface["name"], "mesh": len(meshes) - 1})
+
+    camera = data["camera"]
+    film_height = camera["film_size_m"][1]
+
+    yfov = 2 * math.atan(0.5 * film_height / camera["focal_length_m"])
+    # glTF cameras look down their local -Z; the measured camera looks along +Z: turn 180 deg
+    # about +Y (quaternion x, y, z, w).
+    nodes.append({"name": "camera", "camera": 0,
+                  "translation": [c * MM for c in camera["position"]],
+                  "rotation": [0.0, 1.0, 0.0, 0.0]})
+
+    return {
+        "asset": {"version": "2.0", "generator": "DaisyRiot tools/make_cornell_box.py"},
+        "extensionsUsed": [EXTENSION],
+        "scene": 0,
+        "scenes": [{"name": "cornell_box", "nodes": list(range(len(nodes)))}],
+        "nodes": nodes,
+        "cameras": [{"name": "measured", "type": "perspective", "perspective": {
+            "yfov": round(yfov, 9), "aspectRatio": 1.0, "znear": 0.01}}],
+        "meshes": meshes,
+        "materials": materials,
+        "accessors": accessors,
+        "bufferViews": buffer_views,
+        "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64,"
+                     + base64.b64encode(bytes(blob)).decode("ascii")}],
+    }
+
+
+def main():
+    text = json.dumps(build(), indent=1) + "\n"
+    if "--check" in sys.argv[1:]:
+        if not TARGET.exists() or TARGET.read_text() != text:
+            print(f"{TARGET} is out of date: run tools/make_cornell_box.py", file=sys.stderr)
+            return 1
+        print(f"{TARGET} is up to date")
+        return 0
+    TARGET.parent.mkdir(parents=True, exist_ok=True)
+    TARGET.write_text(text)
+    print(f"wrote {TARGET}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
