@@ -1,11 +1,43 @@
 #include "core/strings.h"
 
+#include <array>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
 namespace daisy {
+
+std::string formatNumber(double value) {
+    std::array<char, 64> buffer{};
+    const double magnitude = std::fabs(value);
+    const bool fixed = magnitude == 0 || (magnitude >= 1e-4 && magnitude < 1e15);
+    const auto result = fixed ? std::to_chars(buffer.data(), buffer.data() + buffer.size(), value,
+                                              std::chars_format::fixed)
+                              : std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+    return std::string(buffer.data(), result.ptr);
+}
+
+std::string formatNumber(double value, int digits) {
+    char buffer[64];
+    std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
+    return buffer;
+}
+
+std::string formatCount(uint64_t count) {
+    char digits[24];
+    const int length =
+        std::snprintf(digits, sizeof digits, "%llu", static_cast<unsigned long long>(count));
+    char out[32];
+    int used = 0;
+    for (int i = 0; i < length; ++i) {
+        if (i > 0 && (length - i) % 3 == 0)
+            out[used++] = ',';
+        out[used++] = digits[i];
+    }
+    return std::string(out, static_cast<std::size_t>(used));
+}
 
 std::string toLower(std::string_view text) {
     std::string out(text);

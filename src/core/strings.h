@@ -4,15 +4,34 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <type_traits>
 
 namespace daisy {
 
-// concat("a", 1, 'b') -> "a1b", through an ostringstream (17 significant digits for doubles).
+// The shortest text that reads back as the same double: "1.2", not "1.1999999999999999", and
+// "200000", not "2e+05" (fixed notation unless the magnitude is extreme).
+std::string formatNumber(double value);
+
+// `value` rounded to `digits` significant digits, "%g" style: formatNumber(1.93434568, 4) =
+// "1.934".
+std::string formatNumber(double value, int digits);
+
+// A count with thousands separators: 478306937 -> "478,306,937".
+std::string formatCount(uint64_t count);
+
+// concat("a", 1, 'b', 0.1) -> "a1b0.1", through an ostringstream; floating-point arguments are
+// written with formatNumber.
 template <typename... Args>
 std::string concat(const Args&... args) {
     std::ostringstream out;
-    out.precision(17);
-    (out << ... << args);
+    const auto append = [&out](const auto& arg) {
+        if constexpr (std::is_floating_point_v<std::decay_t<decltype(arg)>>) {
+            out << formatNumber(static_cast<double>(arg));
+        } else {
+            out << arg;
+        }
+    };
+    (append(args), ...);
     return out.str();
 }
 

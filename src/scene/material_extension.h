@@ -2,8 +2,7 @@
 // Parses a DAISY_materials_spectral object (DESIGN.md section 10) into typed data, checking
 // every value. `where` is the JSON path of `object` (e.g. "materials[2].extensions.
 // DAISY_materials_spectral"); error messages extend it to the offending member, e.g.
-// "materials[2].extensions.DAISY_materials_spectral.reflectance.values[3]: 1.2 is over 1".
-// The caller prefixes the file name.
+// "<where>.reflectance.values[3]: 1.2 is outside [0, 1]". The caller prefixes the file name.
 #include <string>
 
 #include <nlohmann/json_fwd.hpp>

@@ -37,6 +37,18 @@ TEST(Strings, FormatBytes) {
     EXPECT_EQ(formatBytes(24.0 * 1024 * 1024 * 1024), "24.0 GiB");
 }
 
+TEST(Strings, NumbersReadBackExactlyAndShort) {
+    EXPECT_EQ(formatNumber(1.2), "1.2");
+    EXPECT_EQ(formatNumber(-0.1), "-0.1");
+    EXPECT_EQ(formatNumber(200000.0), "200000");
+    EXPECT_EQ(formatNumber(1e-300), "1e-300");
+    EXPECT_EQ(formatNumber(1.93434568673662, 6), "1.93435");
+    EXPECT_EQ(concat("x=", 0.1, " n=", 3), "x=0.1 n=3");
+    EXPECT_EQ(formatCount(478306937), "478,306,937");
+    EXPECT_EQ(formatCount(999), "999");
+    EXPECT_EQ(formatCount(1000), "1,000");
+}
+
 TEST(Expected, CarriesValueOrError) {
     Expected<int> good = 7;
     ASSERT_TRUE(good);
