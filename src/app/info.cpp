@@ -26,6 +26,11 @@ std::string materialList(const Scene& scene) {
     return out;
 }
 
+std::string point(const Vec3d& p) {
+    return concat("(", formatNumber(p.x, 6), ", ", formatNumber(p.y, 6), ", ", formatNumber(p.z, 6),
+                  ")");
+}
+
 std::string cameraList(const Scene& scene) {
     std::string out;
     for (const Camera& camera : scene.cameras)
@@ -68,19 +73,20 @@ int runInfo(const CommonOptions& options) {
                         : std::string()));
     printRow("patches",
              options.subdivideMaxEdge > 0
-                 ? concat(patches->patchCount(), " (subdivided to edges <= ",
-                          options.subdivideMaxEdge, "; bound ", patchEstimate, ")")
-                 : concat(patches->patchCount(), " (no subdivision)"));
-    printRow("vertices", concat(patches->vertexCount(), " (welded)"));
+                 ? concat(formatCount(patches->patchCount()), " (subdivided to edges <= ",
+                          options.subdivideMaxEdge, "; bound ", formatCount(patchEstimate), ")")
+                 : concat(formatCount(patches->patchCount()), " (no subdivision)"));
+    printRow("vertices", concat(formatCount(patches->vertexCount()), " (welded)"));
     printRow("materials",
              concat(scene->materials.size(), ": ", emissive, " emissive, ", fluorescent,
                     " fluorescent", materialList(*scene)));
     printRow("cameras", concat(scene->cameras.size(), ": ", cameraList(*scene)));
-    printRow("bounds", concat(bounds.lo, " .. ", bounds.hi));
-    printRow("total area", concat(meshArea(mesh), " (scene units squared)"));
+    printRow("bounds", concat(point(bounds.lo), " .. ", point(bounds.hi)));
+    printRow("total area", concat(formatNumber(meshArea(mesh), 6), " square scene units"));
     printRow("matrix",
-             concat("~", matrix.nonzeros, " non-zeros (", 100.0 * matrix.facingFraction,
-                    "% of pairs face each other", matrix.sampled ? ", sampled" : "", "), ",
+             concat("~", formatCount(matrix.nonzeros), " non-zeros (",
+                    formatNumber(100.0 * matrix.facingFraction, 3), "% of pairs face each other",
+                    matrix.sampled ? ", sampled" : "", "), ",
                     formatBytes(static_cast<double>(matrix.matrixBytes)), " as CSR"));
     if (matrix.matrixBytes > options.maxMemoryBytes) {
         printRow(

@@ -37,8 +37,9 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--exposure", render.exposure, "Exposure in EV, or auto")
         ->check(CLI::Validator(
             [](std::string& text) {
-                return text == "auto" || CLI::Number(text).empty() ? std::string()
-                                                                   : "use a number of EV or auto";
+                return text == "auto" || CLI::Number(text).empty()
+                    ? std::string()
+                    : "'" + text + "' is not an exposure: use a number of EV or auto";
             },
             "EV|auto"));
 
@@ -71,6 +72,15 @@ int main(int argc, char** argv) {
     benchCmd->add_flag("--stress", bench.stress, "Run the numerical stress suite");
     benchCmd->add_option("-o,--output", bench.outputPath, "CSV of the results");
 
+    const std::string first = argc > 1 ? argv[1] : "";
+    if (!first.empty() && first[0] != '-' &&
+        app.get_subcommands([&](CLI::App* sub) { return sub->check_name(first); }).empty()) {
+        std::fprintf(stderr,
+                     "error: unknown command '%s' (expected render, solve, formfactors, info, "
+                     "view, validate or bench; see daisy --help)\n",
+                     first.c_str());
+        return 2;
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
