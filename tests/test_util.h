@@ -13,8 +13,7 @@ inline std::filesystem::path testTempDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     std::string name = std::string(info->test_suite_name()) + "." + info->name();
     for (char& c : name) {
-        if (c == '/')
-            c = '_';
+        if (c == '/') c = '_';
     }
     const auto dir = std::filesystem::temp_directory_path() / "daisy_tests" / name;
     std::filesystem::remove_all(dir);

@@ -18,10 +18,8 @@ std::string materialList(const Scene& scene) {
     std::string out;
     for (const Material& material : scene.materials) {
         out += "\n    " + material.name;
-        if (material.isEmissive())
-            out += " (emissive)";
-        if (material.isFluorescent())
-            out += " (fluorescent)";
+        if (material.isEmissive()) out += " (emissive)";
+        if (material.isFluorescent()) out += " (fluorescent)";
     }
     return out;
 }

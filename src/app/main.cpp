@@ -23,8 +23,7 @@ int main(int argc, char** argv) {
     renderCmd->add_option("-o,--output", render.outputPath, "Image file (.png, .exr, .pfm)")
         ->check([](const std::string& path) {
             for (const char* ext : {".png", ".exr", ".pfm"}) {
-                if (path.size() > 4 && path.compare(path.size() - 4, 4, ext) == 0)
-                    return "";
+                if (path.size() > 4 && path.compare(path.size() - 4, 4, ext) == 0) return "";
             }
             return "the image must end in .png, .exr or .pfm";
         })
@@ -102,23 +101,16 @@ int main(int argc, char** argv) {
                             : common.verbose ? daisy::Verbosity::Verbose
                                              : daisy::Verbosity::Normal);
 
-    if (*infoCmd)
-        return runInfo(common);
+    if (*infoCmd) return runInfo(common);
     if (*validateCmd && common.backend != "vulkan" && common.backend != "cuda") {
         daisy::logError("daisy validate: --backend must be vulkan or cuda");
         return 2;
     }
-    if (*renderCmd)
-        return notBuiltYet("render", "the image renderer");
-    if (*solveCmd)
-        return notBuiltYet("solve", "the radiosity solver");
-    if (*formFactorsCmd)
-        return notBuiltYet("formfactors", "the view-factor matrix");
-    if (*viewCmd)
-        return notBuiltYet("view", "the viewer");
-    if (*validateCmd)
-        return notBuiltYet("validate", "the GPU backends");
-    if (*benchCmd)
-        return notBuiltYet("bench", "the benchmark driver");
+    if (*renderCmd) return notBuiltYet("render", "the image renderer");
+    if (*solveCmd) return notBuiltYet("solve", "the radiosity solver");
+    if (*formFactorsCmd) return notBuiltYet("formfactors", "the view-factor matrix");
+    if (*viewCmd) return notBuiltYet("view", "the viewer");
+    if (*validateCmd) return notBuiltYet("validate", "the GPU backends");
+    if (*benchCmd) return notBuiltYet("bench", "the benchmark driver");
     return 1;
 }

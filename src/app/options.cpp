@@ -38,8 +38,7 @@ SceneLoadOptions CommonOptions::sceneLoadOptions() const {
 void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequired) {
     auto* scene = command.add_option("SCENE", options.scenePath, "Scene file (.gltf, .glb, .obj)")
                       ->check(CLI::ExistingFile);
-    if (sceneRequired)
-        scene->required();
+    if (sceneRequired) scene->required();
 
     command.add_option("--backend", options.backend, "Form-factor backend")
         ->check(CLI::IsMember({"auto", "cpu", "reference", "vulkan", "cuda"}))
@@ -102,8 +101,7 @@ std::string finishCommonOptions(CommonOptions& options) {
 uint64_t physicalMemoryBytes() {
     const long pages = sysconf(_SC_PHYS_PAGES);
     const long pageSize = sysconf(_SC_PAGE_SIZE);
-    if (pages <= 0 || pageSize <= 0)
-        return 0;
+    if (pages <= 0 || pageSize <= 0) return 0;
     return static_cast<uint64_t>(pages) * static_cast<uint64_t>(pageSize);
 }
 

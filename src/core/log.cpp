@@ -22,18 +22,15 @@ Verbosity verbosity() {
 }
 
 void logWarning(const std::string& message) {
-    if (gVerbosity != Verbosity::Quiet)
-        print("warning: ", message);
+    if (gVerbosity != Verbosity::Quiet) print("warning: ", message);
 }
 
 void logInfo(const std::string& message) {
-    if (gVerbosity != Verbosity::Quiet)
-        print("", message);
+    if (gVerbosity != Verbosity::Quiet) print("", message);
 }
 
 void logVerbose(const std::string& message) {
-    if (gVerbosity == Verbosity::Verbose)
-        print("", message);
+    if (gVerbosity == Verbosity::Verbose) print("", message);
 }
 
 void logError(const std::string& message) {

@@ -32,8 +32,7 @@ std::string formatCount(uint64_t count) {
     char out[32];
     int used = 0;
     for (int i = 0; i < length; ++i) {
-        if (i > 0 && (length - i) % 3 == 0)
-            out[used++] = ',';
+        if (i > 0 && (length - i) % 3 == 0) out[used++] = ',';
         out[used++] = digits[i];
     }
     return std::string(out, static_cast<std::size_t>(used));
@@ -71,8 +70,7 @@ bool parseByteSize(std::string_view text, std::uint64_t& bytes) {
     const char* begin = s.c_str();
     char* end = nullptr;
     const double number = std::strtod(begin, &end);
-    if (end == begin || !std::isfinite(number) || number < 0)
-        return false;
+    if (end == begin || !std::isfinite(number) || number < 0) return false;
     std::string suffix = toLower(std::string_view(end));
     while (!suffix.empty() && suffix.front() == ' ')
         suffix.erase(suffix.begin());
@@ -85,16 +83,13 @@ bool parseByteSize(std::string_view text, std::uint64_t& bytes) {
         } else {
             const std::string_view prefixes = "kmgtp";
             const std::size_t power = prefixes.find(unit);
-            if (power == std::string_view::npos)
-                return false;
-            if (!(rest.empty() || rest == "b" || rest == "i" || rest == "ib"))
-                return false;
+            if (power == std::string_view::npos) return false;
+            if (!(rest.empty() || rest == "b" || rest == "i" || rest == "ib")) return false;
             scale = std::pow(1024.0, static_cast<double>(power + 1));
         }
     }
     const double value = number * scale;
-    if (value >= 1.8e19)
-        return false;
+    if (value >= 1.8e19) return false;
     bytes = static_cast<std::uint64_t>(std::llround(value));
     return true;
 }

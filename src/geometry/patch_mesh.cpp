@@ -61,10 +61,8 @@ void buildVertexAdjacency(PatchMesh& mesh) {
     auto corners = [&](std::size_t p, auto&& visit) {
         const auto& patch = mesh.patches[p];
         visit(patch[0]);
-        if (patch[1] != patch[0])
-            visit(patch[1]);
-        if (patch[2] != patch[0] && patch[2] != patch[1])
-            visit(patch[2]);
+        if (patch[1] != patch[0]) visit(patch[1]);
+        if (patch[2] != patch[0] && patch[2] != patch[1]) visit(patch[2]);
     };
     for (std::size_t p = 0; p < mesh.patchCount(); ++p) {
         corners(p, [&](uint32_t v) { ++mesh.vertexPatchOffsets[v + 1]; });
@@ -82,10 +80,8 @@ void buildVertexAdjacency(PatchMesh& mesh) {
 }  // namespace
 
 uint64_t estimatePatchCount(const TriangleMesh& mesh, double maxEdge) {
-    if (maxEdge == 0)
-        return mesh.triangleCount();
-    if (!(maxEdge > 0) || !std::isfinite(maxEdge))
-        return UINT64_MAX;
+    if (maxEdge == 0) return mesh.triangleCount();
+    if (!(maxEdge > 0) || !std::isfinite(maxEdge)) return UINT64_MAX;
     return bisectionCountBound(mesh.positions, mesh.triangles, maxEdge);
 }
 
@@ -101,8 +97,7 @@ Expected<PatchMesh> buildPatchMesh(const TriangleMesh& mesh, double maxEdge, uin
     PatchMesh out;
     VertexWelder welder(out.positions);
     auto welded = weldTriangles(mesh, welder);
-    if (!welded)
-        return welded.error();
+    if (!welded) return welded.error();
     // Patch ids are uint32 (vertexPatches, the sparse matrix's columns).
     const uint64_t limit = std::min<uint64_t>(maxPatches, UINT32_MAX);
     const uint64_t estimate = estimatePatchCount(mesh, maxEdge);
@@ -124,8 +119,7 @@ Expected<PatchMesh> buildPatchMesh(const TriangleMesh& mesh, double maxEdge, uin
         }
     } else {
         auto refined = bisectLongestEdges(*welded, maxEdge, limit, welder);
-        if (!refined)
-            return refined.error();
+        if (!refined) return refined.error();
         out.patches = std::move(refined->triangles);
         out.sourceTriangle = std::move(refined->sourceTriangle);
     }

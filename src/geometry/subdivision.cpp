@@ -84,8 +84,7 @@ double rosenbergStengerBound(const Corners& corners, const EdgeLengths& lengths,
     if (!std::isfinite(lengths[0]) || !std::isfinite(lengths[1]) || !std::isfinite(lengths[2])) {
         return std::numeric_limits<double>::infinity();
     }
-    if (std::max({lengths[0], lengths[1], lengths[2]}) <= maxEdge)
-        return 1;
+    if (std::max({lengths[0], lengths[1], lengths[2]}) <= maxEdge) return 1;
     const auto shortest = std::min_element(lengths.begin(), lengths.end()) - lengths.begin();
     const Vec3d& apex = corners[(shortest + 2) % 3];
     const Vec3d u = corners[shortest] - apex;
@@ -111,8 +110,7 @@ double frontierBound(const Corners& root, double maxEdge, uint64_t& budget,
         stack.pop_back();
         const EdgeLengths lengths = edgeLengths(c);
         const double bound = rosenbergStengerBound(c, lengths, maxEdge);
-        if (!std::isfinite(bound))
-            return bound;
+        if (!std::isfinite(bound)) return bound;
         if (bound <= 1 || budget == 0 ||
             !(bound > kLooseFactor * triangleArea(c[0], c[1], c[2]) / leafAreaMax)) {
             total += bound;
@@ -148,16 +146,14 @@ void VertexWelder::rehash(std::size_t slotCount) {
 uint32_t VertexWelder::insert(const Vec3d& position) {
     std::size_t slot = hashPosition(position) & mask_;
     while (slots_[slot] != kEmptySlot) {
-        if (sameBits(positions_[slots_[slot]], position))
-            return slots_[slot];
+        if (sameBits(positions_[slots_[slot]], position)) return slots_[slot];
         slot = (slot + 1) & mask_;
     }
     DAISY_CHECK_OP(positions_.size(), <, std::size_t{kEmptySlot});
     const auto vertex = static_cast<uint32_t>(positions_.size());
     positions_.push_back({position.x + 0.0, position.y + 0.0, position.z + 0.0});
     slots_[slot] = vertex;
-    if (2 * positions_.size() > slots_.size())
-        rehash(2 * slots_.size());
+    if (2 * positions_.size() > slots_.size()) rehash(2 * slots_.size());
     return vertex;
 }
 

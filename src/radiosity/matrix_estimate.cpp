@@ -47,8 +47,7 @@ MatrixEstimate estimateMatrixMemory(const PatchMesh& mesh) {
         for (uint64_t s = 0; s < kSampledPairs; ++s) {
             const uint64_t i = rng() % n;
             uint64_t j = rng() % (n - 1);
-            if (j >= i)
-                ++j;
+            if (j >= i) ++j;
             facingPairs += facing(mesh, i, j) ? 1 : 0;
         }
         estimate.facingFraction = static_cast<double>(facingPairs) / kSampledPairs;

@@ -84,10 +84,8 @@ Layout layoutOf(int type, int componentType) {
 // lie inside `size` bytes, without overflowing. Precondition: stride > 0.
 bool fits(std::size_t offset, std::size_t stride, std::size_t count, std::size_t elementSize,
           std::size_t size) {
-    if (count == 0)
-        return offset <= size;
-    if (offset > size || elementSize > size - offset)
-        return false;
+    if (count == 0) return offset <= size;
+    if (offset > size || elementSize > size - offset) return false;
     return count - 1 <= (size - offset - elementSize) / stride;
 }
 
@@ -181,13 +179,11 @@ Expected<void> applySparse(const tinygltf::Model& model, const tinygltf::Accesso
                             static_cast<std::size_t>(sparse.indices.byteOffset), count,
                             layoutOf(TINYGLTF_TYPE_SCALAR, sparse.indices.componentType),
                             sparseWhere + ".indices");
-    if (!targets)
-        return targets.error();
+    if (!targets) return targets.error();
     auto substitutes = readView(model, sparse.values.bufferView,
                                 static_cast<std::size_t>(sparse.values.byteOffset), count, layout,
                                 sparseWhere + ".values");
-    if (!substitutes)
-        return substitutes.error();
+    if (!substitutes) return substitutes.error();
     for (std::size_t k = 0; k < count; ++k) {
         const auto target = static_cast<std::size_t>((*targets)[k]);
         if (target >= accessor.count) {
@@ -226,16 +222,14 @@ Expected<std::vector<double>> readAccessor(const tinygltf::Model& model, int ind
     if (accessor.bufferView != -1) {
         auto dense = readView(model, accessor.bufferView, accessor.byteOffset, accessor.count,
                               layout, where);
-        if (!dense)
-            return dense.error();
+        if (!dense) return dense.error();
         values = std::move(*dense);
     } else {
         values.assign(accessor.count * layout.components, 0.0);  // glTF: no bufferView = zeros
     }
     if (accessor.sparse.isSparse) {
         auto applied = applySparse(model, accessor, layout, where, values);
-        if (!applied)
-            return applied.error();
+        if (!applied) return applied.error();
     }
     return values;
 }
@@ -263,8 +257,7 @@ Expected<GltfMatrix> readGltfNodeTransform(const tinygltf::Model& model, int ind
          {std::tuple{&node.matrix, "matrix", 16}, std::tuple{&node.translation, "translation", 3},
           std::tuple{&node.rotation, "rotation", 4}, std::tuple{&node.scale, "scale", 3}}) {
         auto checked = checkNumbers(*values, static_cast<std::size_t>(size), where + "." + name);
-        if (!checked)
-            return checked.error();
+        if (!checked) return checked.error();
     }
     GltfMatrix m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     if (!node.matrix.empty()) {
@@ -272,8 +265,7 @@ Expected<GltfMatrix> readGltfNodeTransform(const tinygltf::Model& model, int ind
         return m;
     }
     std::array<double, 4> q{0, 0, 0, 1};
-    if (!node.rotation.empty())
-        std::copy(node.rotation.begin(), node.rotation.end(), q.begin());
+    if (!node.rotation.empty()) std::copy(node.rotation.begin(), node.rotation.end(), q.begin());
     const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     if (!(norm > 0) || !std::isfinite(norm))
         return Error{where + ".rotation: not a unit quaternion"};
@@ -286,8 +278,7 @@ Expected<GltfMatrix> readGltfNodeTransform(const tinygltf::Model& model, int ind
         const double scale = node.scale.empty() ? 1.0 : node.scale[static_cast<std::size_t>(c)];
         for (int r = 0; r < 3; ++r)
             m[4 * c + r] = rotation[r][c] * scale;
-        if (!node.translation.empty())
-            m[12 + c] = node.translation[static_cast<std::size_t>(c)];
+        if (!node.translation.empty()) m[12 + c] = node.translation[static_cast<std::size_t>(c)];
     }
     return m;
 }
@@ -299,8 +290,7 @@ std::string gltfOutOfRange(const char* what, long long index, std::size_t count)
 Expected<std::vector<Vec3d>> readGltfPositions(const tinygltf::Model& model, int index) {
     auto values = readAccessor(model, index, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT},
                                "VEC3 FLOAT");
-    if (!values)
-        return values.error();
+    if (!values) return values.error();
     std::vector<Vec3d> positions(values->size() / 3);
     for (std::size_t i = 0; i < positions.size(); ++i) {
         positions[i] = {(*values)[3 * i], (*values)[3 * i + 1], (*values)[3 * i + 2]};
@@ -318,8 +308,7 @@ Expected<std::vector<uint32_t>> readGltfIndices(const tinygltf::Model& model, in
                      {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
                       TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT},
                      "SCALAR UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
-    if (!values)
-        return values.error();
+    if (!values) return values.error();
     std::vector<uint32_t> indices(values->size());
     std::transform(values->begin(), values->end(), indices.begin(),
                    [](double value) { return static_cast<uint32_t>(value); });

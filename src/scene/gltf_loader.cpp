@@ -134,8 +134,7 @@ Expected<Material> convertMaterial(const tinygltf::Material& source, int index,
     if (auto it = source.extensions.find(kSpectralExtensionName); it != source.extensions.end()) {
         auto spectral = parseMaterialExtension(
             toJson(it->second), concat(where, ".extensions.", kSpectralExtensionName));
-        if (!spectral)
-            return spectral.error();
+        if (!spectral) return spectral.error();
         material.spectral = std::move(*spectral);
     }
     return material;
@@ -155,8 +154,7 @@ Expected<std::vector<std::array<uint32_t, 3>>> triangulate(int mode,
     const std::size_t n = indices.size();
     std::vector<std::array<uint32_t, 3>> triangles;
     if (mode == TINYGLTF_MODE_TRIANGLES) {
-        if (n % 3 != 0)
-            return Error{concat(n, " vertices do not make whole triangles")};
+        if (n % 3 != 0) return Error{concat(n, " vertices do not make whole triangles")};
         for (std::size_t i = 0; i < n; i += 3) {
             triangles.push_back({indices[i], indices[i + 1], indices[i + 2]});
         }
@@ -181,15 +179,13 @@ public:
     Expected<void> build() {
         for (std::size_t i = 0; i < model_.materials.size(); ++i) {
             auto material = convertMaterial(model_.materials[i], static_cast<int>(i), path_);
-            if (!material)
-                return material.error();
+            if (!material) return material.error();
             scene_.materials.push_back(std::move(*material));
         }
         defaultMaterial_ = static_cast<uint32_t>(model_.materials.size());
 
         auto traversed = traverse();
-        if (!traversed)
-            return traversed;
+        if (!traversed) return traversed;
         if (usesDefault_) {
             // Not glTF's default: that is white (baseColorFactor 1), a perfect reflector under
             // which light in a closed room never decays and the radiosity solve cannot
@@ -236,8 +232,7 @@ private:
                 }
             }
             for (std::size_t n = model_.nodes.size(); n-- > 0;) {
-                if (!isChild[n])
-                    stack.push_back({static_cast<int>(n), kIdentity, "root nodes"});
+                if (!isChild[n]) stack.push_back({static_cast<int>(n), kIdentity, "root nodes"});
             }
         }
 
@@ -259,8 +254,7 @@ private:
             visited[nodeIndex] = 1;
             const tinygltf::Node& node = model_.nodes[nodeIndex];
             auto local = readGltfNodeTransform(model_, item.node);
-            if (!local)
-                return local.error();
+            if (!local) return local.error();
             const Mat4 world = multiply(item.parent, *local);
             if (node.mesh != -1) {
                 if (!inRange(node.mesh, model_.meshes.size())) {
@@ -268,13 +262,11 @@ private:
                                  gltfOutOfRange("mesh", node.mesh, model_.meshes.size())};
                 }
                 auto appended = appendMesh(node.mesh, world);
-                if (!appended)
-                    return appended;
+                if (!appended) return appended;
             }
             if (node.camera != -1) {
                 auto added = addCamera(node, where, world);
-                if (!added)
-                    return added;
+                if (!added) return added;
             }
             for (std::size_t k = node.children.size(); k-- > 0;) {
                 stack.push_back({node.children[k], world, concat(where, ".children[", k, "]")});
@@ -310,18 +302,15 @@ private:
             material = static_cast<uint32_t>(primitive.material);
         }
         const auto position = primitive.attributes.find("POSITION");
-        if (position == primitive.attributes.end())
-            return Error{"has no POSITION attribute"};
+        if (position == primitive.attributes.end()) return Error{"has no POSITION attribute"};
         auto positions = readGltfPositions(model_, position->second);
-        if (!positions)
-            return withContext(positions.error(), "attributes.POSITION");
+        if (!positions) return withContext(positions.error(), "attributes.POSITION");
         const std::size_t vertexCount = positions->size();
 
         std::vector<uint32_t> indices;
         if (primitive.indices != -1) {
             auto read = readGltfIndices(model_, primitive.indices);
-            if (!read)
-                return withContext(read.error(), "indices");
+            if (!read) return withContext(read.error(), "indices");
             indices = std::move(*read);
             for (std::size_t k = 0; k < indices.size(); ++k) {
                 if (indices[k] >= vertexCount) {
@@ -336,8 +325,7 @@ private:
                 indices[k] = static_cast<uint32_t>(k);
         }
         auto triangles = triangulate(mode, indices);
-        if (!triangles)
-            return triangles.error();
+        if (!triangles) return triangles.error();
 
         TriangleMesh& mesh = scene_.mesh;
         if (vertexCount > std::numeric_limits<uint32_t>::max() - mesh.positions.size()) {
@@ -399,8 +387,7 @@ private:
         camera.up = normalize(upOrthogonal);
         camera.yFovRad = lens.yfov;
         camera.aspectRatio = lens.aspectRatio;
-        if (lens.znear > 0)
-            camera.zNear = lens.znear;
+        if (lens.znear > 0) camera.zNear = lens.znear;
         camera.zFar = lens.zfar;
         scene_.cameras.push_back(std::move(camera));
         return {};
@@ -427,8 +414,7 @@ std::string trimNewlines(std::string text) {
 // Parses the file with tinygltf: binary when it starts with the "glTF" magic or ends in .glb.
 Expected<tinygltf::Model> parseFile(const std::string& path, std::vector<std::string>& warnings) {
     std::ifstream file(path, std::ios::binary);
-    if (!file)
-        return Error{"cannot open the file"};
+    if (!file) return Error{"cannot open the file"};
     char magic[4] = {};
     file.read(magic, sizeof(magic));
     const bool binary = (file.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0) ||
@@ -444,12 +430,10 @@ Expected<tinygltf::Model> parseFile(const std::string& path, std::vector<std::st
     error = trimNewlines(error);
     warning = trimNewlines(warning);
     if (!ok || !error.empty()) {
-        if (error.empty())
-            error = "tinygltf failed without a message";
+        if (error.empty()) error = "tinygltf failed without a message";
         return Error{warning.empty() ? error : error + "; " + warning};
     }
-    if (!warning.empty())
-        warnings.push_back(path + ": " + warning);
+    if (!warning.empty()) warnings.push_back(path + ": " + warning);
     return model;
 }
 
@@ -460,12 +444,10 @@ Expected<Scene> loadGltf(const std::string& path) {
         Scene scene;
         scene.path = path;
         auto model = parseFile(path, scene.warnings);
-        if (!model)
-            return withContext(model.error(), path);
+        if (!model) return withContext(model.error(), path);
         SceneBuilder builder(*model, path, scene);
         auto built = builder.build();
-        if (!built)
-            return withContext(built.error(), path);
+        if (!built) return withContext(built.error(), path);
         return scene;
     } catch (const std::exception& e) {
         return Error{path + ": " + e.what()};

@@ -25,14 +25,11 @@ Expected<Scene> loadScene(const std::string& path, const SceneLoadOptions& optio
         return Error{concat(path, ": unknown scene format '", extension,
                             "' (expected .gltf, .glb or .obj)")};
     }
-    if (!scene)
-        return scene;
+    if (!scene) return scene;
     if (!options.materialsPath.empty()) {
-        if (auto ok = applyMaterialOverrides(*scene, options.materialsPath); !ok)
-            return ok.error();
+        if (auto ok = applyMaterialOverrides(*scene, options.materialsPath); !ok) return ok.error();
     }
-    if (auto ok = validateScene(*scene); !ok)
-        return ok.error();
+    if (auto ok = validateScene(*scene); !ok) return ok.error();
     return scene;
 }
 

@@ -3,8 +3,7 @@
 namespace daisy {
 
 bool Material::isEmissive() const {
-    if (spectral.emission)
-        return spectral.emission->scale > 0;
+    if (spectral.emission) return spectral.emission->scale > 0;
     return emissiveRgb[0] > 0 || emissiveRgb[1] > 0 || emissiveRgb[2] > 0;
 }
 
@@ -13,12 +12,9 @@ bool Material::isFluorescent() const {
 }
 
 void mergeExtension(MaterialExtension& target, const MaterialExtension& overlay) {
-    if (overlay.reflectance)
-        target.reflectance = overlay.reflectance;
-    if (overlay.emission)
-        target.emission = overlay.emission;
-    if (overlay.fluorescence)
-        target.fluorescence = overlay.fluorescence;
+    if (overlay.reflectance) target.reflectance = overlay.reflectance;
+    if (overlay.emission) target.emission = overlay.emission;
+    if (overlay.fluorescence) target.fluorescence = overlay.fluorescence;
 }
 
 }  // namespace daisy

@@ -51,8 +51,7 @@ Error fail(const std::string& path, const std::string& problem) {
 // "string \"abc\"" for type errors, shortened for long values.
 std::string describe(const json& value) {
     std::string text = value.dump();
-    if (text.size() > 40)
-        text = text.substr(0, 37) + "...";
+    if (text.size() > 40) text = text.substr(0, 37) + "...";
     return concat(value.type_name(), ' ', text);
 }
 
@@ -68,8 +67,7 @@ const char* roleName(SpectrumRole role) {
 
 Expected<void> requireObject(const json& value, const std::string& path,
                              std::span<const std::string_view> allowed) {
-    if (!value.is_object())
-        return fail(path, "expected an object, got " + describe(value));
+    if (!value.is_object()) return fail(path, "expected an object, got " + describe(value));
     for (const auto& item : value.items()) {
         bool known = false;
         for (std::string_view name : allowed)
@@ -84,11 +82,9 @@ Expected<void> requireObject(const json& value, const std::string& path,
 // A finite number in [low, high]; `unit` (" nm", " K" or "") follows numbers in messages.
 Expected<double> readNumber(const json& value, const std::string& path, double low = -kInfinity,
                             double high = kInfinity, const char* unit = "") {
-    if (!value.is_number())
-        return fail(path, "expected a number, got " + describe(value));
+    if (!value.is_number()) return fail(path, "expected a number, got " + describe(value));
     const double result = value.get<double>();
-    if (!std::isfinite(result))
-        return fail(path, formatNumber(result) + " is not finite");
+    if (!std::isfinite(result)) return fail(path, formatNumber(result) + " is not finite");
     if (result < low && low == 0 && high == kInfinity) {
         return fail(path, formatNumber(result) + unit + " is negative");
     }
@@ -108,8 +104,7 @@ Expected<std::vector<double>> readNumbers(const json& value, const std::string& 
     std::vector<double> result;
     for (std::size_t i = 0; i < value.size(); ++i) {
         auto item = readNumber(value[i], element(path, i), low, high, unit);
-        if (!item)
-            return item.error();
+        if (!item) return item.error();
         result.push_back(*item);
     }
     return result;
@@ -118,11 +113,9 @@ Expected<std::vector<double>> readNumbers(const json& value, const std::string& 
 // At least two, strictly ascending, within [kMinWavelengthNm, kMaxWavelengthNm].
 Expected<std::vector<double>> readWavelengths(const json& value, const std::string& path) {
     auto wavelengths = readNumbers(value, path, kMinWavelengthNm, kMaxWavelengthNm, " nm");
-    if (!wavelengths)
-        return wavelengths.error();
+    if (!wavelengths) return wavelengths.error();
     const std::vector<double>& nm = *wavelengths;
-    if (nm.size() < 2)
-        return fail(path, concat("needs at least 2 wavelengths, got ", nm.size()));
+    if (nm.size() < 2) return fail(path, concat("needs at least 2 wavelengths, got ", nm.size()));
     for (std::size_t i = 1; i < nm.size(); ++i) {
         if (nm[i] <= nm[i - 1]) {
             return fail(element(path, i),
@@ -138,8 +131,7 @@ Expected<std::vector<double>> readWavelengths(const json& value, const std::stri
 Expected<std::vector<double>> readValues(const json& value, const std::string& path,
                                          SpectrumRole role) {
     auto values = readNumbers(value, path, 0, isReflectanceLike(role) ? 1 : kInfinity);
-    if (!values)
-        return values.error();
+    if (!values) return values.error();
     bool allZero = true;
     for (double v : *values)
         allZero = allZero && v == 0;
@@ -151,17 +143,13 @@ Expected<std::vector<double>> readValues(const json& value, const std::string& p
 
 Expected<SpectrumShape> parseTabulated(const json& object, const std::string& path,
                                        SpectrumRole role) {
-    if (!object.contains("wavelengths"))
-        return fail(path, "'values' given without 'wavelengths'");
-    if (!object.contains("values"))
-        return fail(path, "'wavelengths' given without 'values'");
+    if (!object.contains("wavelengths")) return fail(path, "'values' given without 'wavelengths'");
+    if (!object.contains("values")) return fail(path, "'wavelengths' given without 'values'");
     auto wavelengths = readWavelengths(object["wavelengths"], member(path, "wavelengths"));
-    if (!wavelengths)
-        return wavelengths.error();
+    if (!wavelengths) return wavelengths.error();
     const std::string valuesPath = member(path, "values");
     auto values = readValues(object["values"], valuesPath, role);
-    if (!values)
-        return values.error();
+    if (!values) return values.error();
     if (values->size() != wavelengths->size()) {
         return fail(valuesPath,
                     concat(values->size(), " values for ", wavelengths->size(),
@@ -175,14 +163,12 @@ Expected<SpectrumShape> parseRgb(const json& value, const std::string& path, Spe
         return fail(path, "expected an array of 3 numbers [r, g, b], got " + describe(value));
     }
     auto values = readValues(value, path, role);
-    if (!values)
-        return values.error();
+    if (!values) return values.error();
     return SpectrumShape{RgbSpectrum{{(*values)[0], (*values)[1], (*values)[2]}}};
 }
 
 Expected<SpectrumShape> parsePreset(const json& value, const std::string& path) {
-    if (!value.is_string())
-        return fail(path, "expected a preset name, got " + describe(value));
+    if (!value.is_string()) return fail(path, "expected a preset name, got " + describe(value));
     const std::string name = value.get<std::string>();
     auto canonical = canonicalIlluminantPreset(name);
     if (!canonical) {
@@ -198,18 +184,14 @@ Expected<SpectrumShape> parseGaussian(const json& value, const std::string& path
         return checked.error();
     }
     for (const char* key : {"peak", "fwhm"}) {
-        if (!value.contains(key))
-            return fail(path, concat("'", key, "' is missing"));
+        if (!value.contains(key)) return fail(path, concat("'", key, "' is missing"));
     }
     auto peak =
         readNumber(value["peak"], member(path, "peak"), kMinWavelengthNm, kMaxWavelengthNm, " nm");
-    if (!peak)
-        return peak.error();
+    if (!peak) return peak.error();
     auto fwhm = readNumber(value["fwhm"], member(path, "fwhm"));
-    if (!fwhm)
-        return fwhm.error();
-    if (*fwhm <= 0)
-        return fail(member(path, "fwhm"), formatNumber(*fwhm) + " nm is not positive");
+    if (!fwhm) return fwhm.error();
+    if (*fwhm <= 0) return fail(member(path, "fwhm"), formatNumber(*fwhm) + " nm is not positive");
     return SpectrumShape{GaussianSpectrum{*peak, *fwhm}};
 }
 
@@ -224,8 +206,7 @@ Expected<SpectrumSpec> parseSpectrum(const json& object, const std::string& path
         shapes.push_back("wavelengths+values");
     }
     for (std::string_view key : {"rgb", "preset", "blackbody", "gaussian"}) {
-        if (object.contains(key))
-            shapes.push_back(key);
+        if (object.contains(key)) shapes.push_back(key);
     }
     if (shapes.size() != 1) {
         return fail(path,
@@ -248,8 +229,7 @@ Expected<SpectrumSpec> parseSpectrum(const json& object, const std::string& path
         const std::string scalePath = member(path, "scale");
         auto scale =
             readNumber(object["scale"], scalePath, 0, isReflectanceLike(role) ? 1.0 : kInfinity);
-        if (!scale)
-            return scale.error();
+        if (!scale) return scale.error();
         if (role == SpectrumRole::FluorophoreEmission && *scale == 0) {
             return fail(scalePath, "0 makes the fluorescence emission shape zero");
         }
@@ -267,12 +247,10 @@ Expected<SpectrumSpec> parseSpectrum(const json& object, const std::string& path
     } else {
         auto kelvin = readNumber(object["blackbody"], member(path, "blackbody"), kMinBlackbodyK,
                                  kMaxBlackbodyK, " K");
-        if (!kelvin)
-            return kelvin.error();
+        if (!kelvin) return kelvin.error();
         shape = SpectrumShape{BlackbodySpectrum{*kelvin}};
     }
-    if (!shape)
-        return shape.error();
+    if (!shape) return shape.error();
     spec.shape = std::move(*shape);
     return spec;
 }
@@ -284,13 +262,11 @@ Expected<FluorescenceMatrix> parseMatrix(const json& object, const std::string& 
         return checked.error();
     }
     for (const char* key : {"wavelengths", "values"}) {
-        if (!object.contains(key))
-            return fail(path, concat("'", key, "' is missing"));
+        if (!object.contains(key)) return fail(path, concat("'", key, "' is missing"));
     }
     FluorescenceMatrix matrix;
     auto wavelengths = readWavelengths(object["wavelengths"], member(path, "wavelengths"));
-    if (!wavelengths)
-        return wavelengths.error();
+    if (!wavelengths) return wavelengths.error();
     matrix.wavelengthsNm = std::move(*wavelengths);
     const std::vector<double>& nm = matrix.wavelengthsNm;
     const std::size_t n = nm.size();
@@ -308,8 +284,7 @@ Expected<FluorescenceMatrix> parseMatrix(const json& object, const std::string& 
             return fail(rowPath, concat("expected ", n, " numbers, got ", describe(rows[o])));
         }
         auto row = readNumbers(rows[o], rowPath, 0, kInfinity);
-        if (!row)
-            return row.error();
+        if (!row) return row.error();
         for (std::size_t i = o + 1; i < n; ++i) {
             if ((*row)[i] != 0) {
                 return fail(element(rowPath, i),
@@ -362,8 +337,7 @@ Expected<FluorescenceSpec> parseFluorescence(const json& object, const std::stri
     }
     if (hasMatrix) {
         auto matrix = parseMatrix(object["matrix"], member(path, "matrix"));
-        if (!matrix)
-            return matrix.error();
+        if (!matrix) return matrix.error();
         return FluorescenceSpec{std::move(*matrix)};
     }
     for (const char* key : {"absorption", "emission", "quantumYield"}) {
@@ -376,17 +350,14 @@ Expected<FluorescenceSpec> parseFluorescence(const json& object, const std::stri
     FluorescenceParams params;
     auto absorption =
         parseSpectrum(object["absorption"], member(path, "absorption"), SpectrumRole::Absorption);
-    if (!absorption)
-        return absorption.error();
+    if (!absorption) return absorption.error();
     params.absorption = std::move(*absorption);
     auto emission = parseSpectrum(object["emission"], member(path, "emission"),
                                   SpectrumRole::FluorophoreEmission);
-    if (!emission)
-        return emission.error();
+    if (!emission) return emission.error();
     params.emission = std::move(*emission);
     auto yield = readNumber(object["quantumYield"], member(path, "quantumYield"), 0, 1);
-    if (!yield)
-        return yield.error();
+    if (!yield) return yield.error();
     params.quantumYield = *yield;
     return FluorescenceSpec{std::move(params)};
 }
@@ -399,22 +370,19 @@ Expected<MaterialExtension> parseExtension(const json& object, const std::string
     if (object.contains("reflectance")) {
         auto reflectance = parseSpectrum(object["reflectance"], member(where, "reflectance"),
                                          SpectrumRole::Reflectance);
-        if (!reflectance)
-            return reflectance.error();
+        if (!reflectance) return reflectance.error();
         extension.reflectance = std::move(*reflectance);
     }
     if (object.contains("emission")) {
         auto emission =
             parseSpectrum(object["emission"], member(where, "emission"), SpectrumRole::Emission);
-        if (!emission)
-            return emission.error();
+        if (!emission) return emission.error();
         extension.emission = std::move(*emission);
     }
     if (object.contains("fluorescence")) {
         auto fluorescence =
             parseFluorescence(object["fluorescence"], member(where, "fluorescence"));
-        if (!fluorescence)
-            return fluorescence.error();
+        if (!fluorescence) return fluorescence.error();
         extension.fluorescence = std::move(*fluorescence);
     }
     return extension;

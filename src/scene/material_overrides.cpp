@@ -34,11 +34,9 @@ std::string materialNames(const Scene& scene) {
         bool seen = false;
         for (const std::string& name : names)
             seen = seen || name == material.name;
-        if (seen)
-            continue;
+        if (seen) continue;
         names.push_back(material.name);
-        if (!out.empty())
-            out += ", ";
+        if (!out.empty()) out += ", ";
         out += material.name;
     }
     return out.empty() ? "no materials" : out;
@@ -46,24 +44,19 @@ std::string materialNames(const Scene& scene) {
 
 bool hasMaterial(const Scene& scene, const std::string& name) {
     for (const Material& material : scene.materials) {
-        if (material.name == name)
-            return true;
+        if (material.name == name) return true;
     }
     return false;
 }
 
 Expected<nlohmann::json> readJsonFile(const std::string& path) {
     std::error_code ec;
-    if (!std::filesystem::exists(path, ec))
-        return Error{path + ": no such file"};
-    if (std::filesystem::is_directory(path, ec))
-        return Error{path + ": is a directory"};
+    if (!std::filesystem::exists(path, ec)) return Error{path + ": no such file"};
+    if (std::filesystem::is_directory(path, ec)) return Error{path + ": is a directory"};
     std::ifstream in(path, std::ios::binary);
-    if (!in)
-        return Error{path + ": cannot open for reading"};
+    if (!in) return Error{path + ": cannot open for reading"};
     const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    if (in.bad())
-        return Error{path + ": read failed"};
+    if (in.bad()) return Error{path + ": read failed"};
     try {
         return nlohmann::json::parse(text);
     } catch (const nlohmann::json::parse_error& e) {
@@ -82,8 +75,7 @@ Expected<nlohmann::json> readJsonFile(const std::string& path) {
 
 Expected<void> applyMaterialOverrides(Scene& scene, const std::string& jsonPath) {
     auto document = readJsonFile(jsonPath);
-    if (!document)
-        return document.error();
+    if (!document) return document.error();
     if (!document->is_object()) {
         return Error{concat(jsonPath, ": expected an object mapping material names to ",
                             kSpectralExtensionName, " objects, got ", document->type_name())};
@@ -98,14 +90,12 @@ Expected<void> applyMaterialOverrides(Scene& scene, const std::string& jsonPath)
                                 " (it has: ", materialNames(scene), ")")};
         }
         auto extension = parseMaterialExtension(item.value(), memberPath(name));
-        if (!extension)
-            return withContext(extension.error(), jsonPath);
+        if (!extension) return withContext(extension.error(), jsonPath);
         overrides.emplace_back(name, std::move(*extension));
     }
     for (const auto& [name, extension] : overrides) {
         for (Material& material : scene.materials) {
-            if (material.name == name)
-                mergeExtension(material.spectral, extension);
+            if (material.name == name) mergeExtension(material.spectral, extension);
         }
     }
     return {};

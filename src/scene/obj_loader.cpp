@@ -74,12 +74,9 @@ std::size_t vertexLine(const std::string& path, std::size_t vertex) {
     while (std::getline(in, line)) {
         ++lineNumber;
         const std::size_t start = line.find_first_not_of(" \t");
-        if (start == std::string::npos || line.size() < start + 2 || line[start] != 'v')
-            continue;
-        if (line[start + 1] != ' ' && line[start + 1] != '\t')
-            continue;
-        if (seen++ == vertex)
-            return lineNumber;
+        if (start == std::string::npos || line.size() < start + 2 || line[start] != 'v') continue;
+        if (line[start + 1] != ' ' && line[start + 1] != '\t') continue;
+        if (seen++ == vertex) return lineNumber;
     }
     return 0;
 }
@@ -106,8 +103,7 @@ Expected<Material> convertMaterial(const tinyobj::material_t& source, const std:
     const Rgb kd = toRgb(source.diffuse);
     const Rgb ke = toRgb(source.emission);
     const Rgb ks = toRgb(source.specular);
-    if (auto checked = checkRgb(kd, material, "Kd", 1.0); !checked)
-        return checked.error();
+    if (auto checked = checkRgb(kd, material, "Kd", 1.0); !checked) return checked.error();
     if (auto checked = checkRgb(ke, material, "Ke", kNoUpperLimit); !checked)
         return checked.error();
     material.baseColor = kd;
@@ -180,8 +176,7 @@ Expected<Scene> loadObj(const std::string& path, MtlConvention convention) {
 
     for (const tinyobj::material_t& source : reader.GetMaterials()) {
         auto material = convertMaterial(source, path, convention);
-        if (!material)
-            return material.error();
+        if (!material) return material.error();
         scene.materials.push_back(std::move(*material));
     }
     const std::size_t mtlMaterialCount = scene.materials.size();

@@ -35,8 +35,7 @@ Expected<void> validateScene(Scene& scene) {
     TriangleMesh& mesh = scene.mesh;
     const std::string& file = scene.path;
     for (const Material& material : scene.materials) {
-        if (auto ok = checkMaterial(material); !ok)
-            return ok.error();
+        if (auto ok = checkMaterial(material); !ok) return ok.error();
     }
     for (std::size_t v = 0; v < mesh.positions.size(); ++v) {
         if (!isFinite(mesh.positions[v])) {
@@ -68,8 +67,7 @@ Expected<void> validateScene(Scene& scene) {
         const double area2 = length(areaVector2(a, b, c));
         // Zero area up to rounding: |cross| <= 2e-14 x (longest edge)^2. A sliver of aspect
         // ratio 1e4 has |cross| ~ 1e-4 x edge^2 and is kept.
-        if (!(area2 > 2e-14 * longestEdgeSquared(a, b, c)))
-            continue;
+        if (!(area2 > 2e-14 * longestEdgeSquared(a, b, c))) continue;
         mesh.triangles[kept] = triangle;
         mesh.materials[kept] = mesh.materials[t];
         ++kept;

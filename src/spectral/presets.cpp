@@ -18,8 +18,7 @@ std::optional<std::string> findCanonical(std::span<const std::string_view> names
                                          std::string_view name) {
     const std::string lowered = toLower(name);
     for (std::string_view candidate : names) {
-        if (toLower(candidate) == lowered)
-            return std::string(candidate);
+        if (toLower(candidate) == lowered) return std::string(candidate);
     }
     return std::nullopt;
 }
@@ -44,8 +43,7 @@ std::optional<std::string> canonicalFluorophorePreset(std::string_view name) {
 std::string joinNames(std::span<const std::string_view> names) {
     std::string out;
     for (std::string_view name : names) {
-        if (!out.empty())
-            out += ", ";
+        if (!out.empty()) out += ", ";
         out += name;
     }
     return out;

@@ -10,8 +10,7 @@ namespace {
 
 bool parseNumber(std::string_view text, double& value) {
     const std::string s(text);
-    if (s.empty())
-        return false;
+    if (s.empty()) return false;
     char* end = nullptr;
     value = std::strtod(s.c_str(), &end);
     while (end && *end == ' ')
@@ -52,10 +51,8 @@ Expected<WavelengthSpec> parseWavelengthSpec(std::string_view text) {
         if (!(step > 0) || !(end >= start)) {
             return Error{concat("'", text, "' needs A <= B and STEP > 0")};
         }
-        if (auto ok = checkRange(start, text); !ok)
-            return ok.error();
-        if (auto ok = checkRange(end, text); !ok)
-            return ok.error();
+        if (auto ok = checkRange(start, text); !ok) return ok.error();
+        if (auto ok = checkRange(end, text); !ok) return ok.error();
         if ((end - start) / step > 10000) {
             return Error{concat("'", text, "' has more than 10000 samples")};
         }
@@ -69,16 +66,14 @@ Expected<WavelengthSpec> parseWavelengthSpec(std::string_view text) {
     std::size_t begin = 0;
     while (begin <= text.size()) {
         std::size_t comma = text.find(',', begin);
-        if (comma == std::string_view::npos)
-            comma = text.size();
+        if (comma == std::string_view::npos) comma = text.size();
         double nm;
         if (!parseNumber(text.substr(begin, comma - begin), nm)) {
             return Error{concat("'", text,
                                 "' is not a wavelength set: use daisyriot, meyer4, visible, fine, "
                                 "auto, A:B:STEP or a comma-separated list in nm")};
         }
-        if (auto ok = checkRange(nm, text); !ok)
-            return ok.error();
+        if (auto ok = checkRange(nm, text); !ok) return ok.error();
         if (!spec.listNm.empty() && nm <= spec.listNm.back()) {
             return Error{concat("wavelengths in '", text, "' must be strictly ascending")};
         }

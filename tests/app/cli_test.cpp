@@ -21,8 +21,7 @@ RunResult runDaisy(const std::string& arguments) {
     RunResult result;
     const std::string command = std::string(DAISY_EXE_PATH) + " " + arguments + " 2>&1";
     FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe)
-        return result;
+    if (!pipe) return result;
     std::array<char, 4096> buffer;
     std::size_t count;
     while ((count = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) {

@@ -165,8 +165,7 @@ TEST(PatchMesh, AdjacencyMatchesBruteForceInversion) {
         std::vector<uint32_t> expected;
         for (uint32_t p = 0; p < mesh.patchCount(); ++p) {
             const auto& c = mesh.patches[p];
-            if (c[0] == v || c[1] == v || c[2] == v)
-                expected.push_back(p);
+            if (c[0] == v || c[1] == v || c[2] == v) expected.push_back(p);
         }
         auto span = mesh.patchesAtVertex(v);
         EXPECT_EQ(std::vector<uint32_t>(span.begin(), span.end()), expected) << "vertex " << v;
@@ -284,8 +283,7 @@ TEST(Subdivision, ConformingWithoutTJunctions) {
     for (const auto& [edge, uses] : undirectedEdgeUses(mesh)) {
         const Vec3d a = mesh.positions[edge.first], d = mesh.positions[edge.second] - a;
         for (uint32_t v = 0; v < mesh.vertexCount(); ++v) {
-            if (v == edge.first || v == edge.second)
-                continue;
+            if (v == edge.first || v == edge.second) continue;
             const Vec3d r = mesh.positions[v] - a;
             const double t = dot(r, d) / dot(d, d);
             const bool onLine = length(cross(r, d)) <= 1e-12 * dot(d, d);

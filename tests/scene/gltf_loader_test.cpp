@@ -33,10 +33,8 @@ std::string base64(const std::string& bytes) {
     std::string text;
     for (std::size_t i = 0; i < bytes.size(); i += 3) {
         uint32_t group = static_cast<uint32_t>(static_cast<unsigned char>(bytes[i])) << 16;
-        if (i + 1 < bytes.size())
-            group |= static_cast<unsigned char>(bytes[i + 1]) << 8;
-        if (i + 2 < bytes.size())
-            group |= static_cast<unsigned char>(bytes[i + 2]);
+        if (i + 1 < bytes.size()) group |= static_cast<unsigned char>(bytes[i + 1]) << 8;
+        if (i + 2 < bytes.size()) group |= static_cast<unsigned char>(bytes[i + 2]);
         text += kAlphabet[(group >> 18) & 63];
         text += kAlphabet[(group >> 12) & 63];
         text += i + 1 < bytes.size() ? kAlphabet[(group >> 6) & 63] : '=';
