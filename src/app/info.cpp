@@ -49,9 +49,11 @@ int runInfo(const CommonOptions& options) {
 
     const TriangleMesh& mesh = scene->mesh;
     const uint64_t patchEstimate = estimatePatchCount(mesh, options.subdivideMaxEdge);
-    auto patches = buildPatchMesh(mesh, options.subdivideMaxEdge);
+    const uint64_t patchLimit = options.maxMemoryBytes / kPatchMeshBytesPerPatch;
+    auto patches = buildPatchMesh(mesh, options.subdivideMaxEdge, patchLimit);
     if (!patches) {
-        logError(concat(options.scenePath, ": ", patches.error().message));
+        logError(concat(options.scenePath, ": ", patches.error().message, " (--max-memory ",
+                        formatBytes(static_cast<double>(options.maxMemoryBytes)), ")"));
         return 2;
     }
     const MatrixEstimate matrix = estimateMatrixMemory(*patches);

@@ -103,12 +103,12 @@ Expected<PatchMesh> buildPatchMesh(const TriangleMesh& mesh, double maxEdge, uin
     const uint64_t estimate = estimatePatchCount(mesh, maxEdge);
     if (estimate > limit) {
         if (maxEdge == 0) {
-            return Error{concat("the scene has ", mesh.triangleCount(),
-                                " triangles, over the limit of ", limit, " patches")};
+            return Error{concat("the scene has ", formatCount(mesh.triangleCount()),
+                                " triangles, over the limit of ", formatCount(limit), " patches")};
         }
-        return Error{concat("--subdivide ", maxEdge, " could make up to ", estimate,
-                            " patches from ", mesh.triangleCount(),
-                            " triangles, over the limit of ", limit,
+        return Error{concat("--subdivide ", maxEdge, " could make up to ", formatCount(estimate),
+                            " patches from ", formatCount(mesh.triangleCount()),
+                            " triangles, over the limit of ", formatCount(limit),
                             "; use a larger --subdivide (or 0 for none)")};
     }
     if (maxEdge == 0) {

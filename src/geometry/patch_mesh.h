@@ -35,6 +35,11 @@ struct PatchMesh {
     }
 };
 
+// Memory one patch costs in a PatchMesh, rounded up: corners 12, source triangle and material 8,
+// normal, centroid and area 56, adjacency 12, and about half a welded vertex with its offsets
+// and weld table 20; 128 leaves room for the subdivision's working stack.
+inline constexpr uint64_t kPatchMeshBytesPerPatch = 128;
+
 // Upper bound on the patch count buildPatchMesh would produce for maxEdge (0 = no subdivision),
 // computed without subdividing, so absurd settings can be refused before memory is spent.
 uint64_t estimatePatchCount(const TriangleMesh& mesh, double maxEdge);

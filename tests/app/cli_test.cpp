@@ -59,6 +59,15 @@ TEST(Cli, InfoWithSubdivisionCountsMorePatches) {
     EXPECT_NE(run.output.find("(subdivided to edges <= 0.1"), std::string::npos) << run.output;
 }
 
+// A subdivision whose patches alone would not fit is refused before anything is allocated.
+TEST(Cli, InfoRefusesSubdivisionOverMaxMemory) {
+    const RunResult run = runDaisy("info " + cornellBox() + " --subdivide 0.0001 --max-memory 1G");
+    EXPECT_EQ(run.status, 2) << run.output;
+    EXPECT_EQ(lineCount(run.output), 1) << run.output;
+    EXPECT_NE(run.output.find("use a larger --subdivide"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("--max-memory 1.00 GiB"), std::string::npos) << run.output;
+}
+
 TEST(Cli, HelpAndVersionExitZero) {
     EXPECT_EQ(runDaisy("--help").status, 0);
     EXPECT_EQ(runDaisy("render --help").status, 0);
