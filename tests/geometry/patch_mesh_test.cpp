@@ -9,6 +9,7 @@
 #include <set>
 #include <utility>
 
+#include "core/strings.h"
 #include "geometry/subdivision.h"
 
 namespace daisy {
@@ -149,7 +150,7 @@ TEST(PatchMesh, RefusesOverMaxPatchesBeforeAllocating) {
     auto huge = buildPatchMesh(unitSquare(), 1e-5);
     ASSERT_FALSE(huge.ok());
     EXPECT_NE(huge.error().message.find("--subdivide"), std::string::npos) << huge.error().message;
-    EXPECT_NE(huge.error().message.find(std::to_string(estimatePatchCount(unitSquare(), 1e-5))),
+    EXPECT_NE(huge.error().message.find(formatCount(estimatePatchCount(unitSquare(), 1e-5))),
               std::string::npos);
     // The limit applies to the estimate (an upper bound), not to the 64 patches made.
     const uint64_t bound = estimatePatchCount(unitSquare(), 0.25);
