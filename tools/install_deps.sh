@@ -15,6 +15,8 @@ packages=(
     libglfw3-dev libglm-dev libimgui-dev xvfb xauth
     # tests and benchmarks
     libgtest-dev libgmock-dev libbenchmark-dev
+    # docs plots
+    python3-matplotlib python3-numpy
 )
 
 missing=()
