@@ -1,0 +1,37 @@
+// Constants that C++, CUDA and GLSL all need (STYLE.md rule 4), #defined once, each with its
+// reason. Plain literals only: this file is read by the GLSL preprocessor too.
+#ifndef DAISY_SHARED_CONFIG_H
+#define DAISY_SHARED_CONFIG_H
+
+// pi and 1/pi in float: GLSL has no M_PI.
+#define DAISY_PI 3.14159265358979f
+#define DAISY_INV_PI 0.318309886183791f
+#define DAISY_INV_TWO_PI 0.159154943091895f
+
+// Form-factor methods (DESIGN.md section 3); the numbers are what the CLI's --method maps to and
+// what a GPU kernel receives as a push constant.
+#define DAISY_METHOD_RIEMANN 0
+#define DAISY_METHOD_NUSSELT 1
+#define DAISY_METHOD_STOCHASTIC 2
+#define DAISY_METHOD_HYBRID 3
+
+// Default --quadrature level L: 4^L quadrature cells per patch (L = 1 is the 4x4 Riemann rule).
+#define DAISY_DEFAULT_QUADRATURE_LEVEL 1
+// Largest accepted L: 4^6 = 4096 points a side is already far past any accuracy need.
+#define DAISY_MAX_QUADRATURE_LEVEL 6
+
+// Hybrid quadrature (formfactor.h), by a cell's distance to the other patch in cell diameters:
+// from FAR_RATIO on the centroid rule (measured error below ~0.1 / ratio^2 of A_j / (pi r^2)),
+// from MID_RATIO on the 3-point rule (below ~1e-3 / ratio^2 of it), nearer the adaptive rule.
+#define DAISY_FF_FAR_RATIO 16.0f
+#define DAISY_FF_MID_RATIO 4.0f
+// Hybrid refinement stops when the summed error estimate of the adaptive cells is below this
+// fraction of F_ij (measured errors of near pairs stay below ~4e-4; see formfactor_test.cpp).
+#define DAISY_FF_REL_TOL 3.0e-4f
+// Deepest cell, in levels below the patch: 4^-12 of its area, where float positions run out.
+#define DAISY_FF_MAX_DEPTH 12
+// Capacity of the hybrid's explicit cell list (no recursion in the dialect): 128 cells of 28 bytes
+// in registers/local memory; allows ~40 splits, far more than a shared edge or vertex needs.
+#define DAISY_FF_MAX_CELLS 128
+
+#endif  // DAISY_SHARED_CONFIG_H

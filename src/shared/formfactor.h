@@ -1,0 +1,393 @@
+// Unoccluded form factors between triangular patches (DESIGN.md section 3): the exact
+// differential-area-to-polygon factor and the per-pair kernels of the riemann, nusselt and hybrid
+// methods. Visibility is not here: the driver multiplies by V_ij from shadow rays.
+// Patches are one-sided: only the half-space in front of a patch (along its normal) emits or
+// receives. All lengths in scene units; factors dimensionless.
+#ifndef DAISY_SHARED_FORMFACTOR_H
+#define DAISY_SHARED_FORMFACTOR_H
+
+#include "config.h"
+#include "gpu_types.h"
+#include "prelude.h"
+#include "sampling.h"
+
+DAISY_SHARED_BEGIN
+
+// A triangle clipped by a plane: at most 4 corners.
+struct ClippedPolygon {
+    vec3 v[4];
+    int count;
+};
+
+// Tolerance on "in front of a plane", relative to the distances involved: float rounding of
+// coplanar corners is ~1e-7 of the coordinates; anything within 1e-5 counts as on the plane.
+DAISY_HD float planeEpsilon(float scale) {
+    return 1.0e-5f * scale;
+}
+
+// True when j has no point strictly in front of i's plane or i none in front of j's, so F_ij =
+// F_ji = 0 with no rays: back-to-back, facing away and coplanar pairs. "Strictly" allows float
+// rounding (planeEpsilon of each corner's distance from the plane's anchor).
+DAISY_HD bool facingAway(DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j) {
+    vec3 cj[3] = {j.a, j.b, j.c};
+    vec3 ci[3] = {i.a, i.b, i.c};
+    bool jInFrontOfI = false;
+    bool iInFrontOfJ = false;
+    for (int k = 0; k < 3; ++k) {
+        vec3 dj = cj[k] - i.a;
+        if (dot(i.normal, dj) > planeEpsilon(length(dj))) jInFrontOfI = true;
+        vec3 di = ci[k] - j.a;
+        if (dot(j.normal, di) > planeEpsilon(length(di))) iInFrontOfJ = true;
+    }
+    return !(jInFrontOfI && iInFrontOfJ);
+}
+
+// Clips the triangle (a, b, c) to the closed half-space dot(n, x - p) >= 0 (Sutherland &
+// Hodgman 1974, one plane). Corners within planeEpsilon of the plane count as on it, so an edge
+// lying in the plane (a shared edge) is kept whole. Orientation is preserved.
+DAISY_HD ClippedPolygon clipTriangleToHalfSpace(vec3 a, vec3 b, vec3 c, vec3 p, vec3 n) {
+    vec3 in3[3] = {a, b, c};
+    float s[3];
+    for (int k = 0; k < 3; ++k) {
+        vec3 d = in3[k] - p;
+        s[k] = dot(n, d);
+        if (abs(s[k]) <= planeEpsilon(length(d))) s[k] = 0.0f;
+    }
+    ClippedPolygon clipped;
+    clipped.count = 0;
+    for (int k = 0; k < 3; ++k) {
+        int k1 = k == 2 ? 0 : k + 1;
+        if (s[k] >= 0.0f) {
+            clipped.v[clipped.count] = in3[k];
+            clipped.count += 1;
+        }
+        if ((s[k] > 0.0f && s[k1] < 0.0f) || (s[k] < 0.0f && s[k1] > 0.0f)) {
+            float t = s[k] / (s[k] - s[k1]);
+            clipped.v[clipped.count] = mix(in3[k], in3[k1], t);
+            clipped.count += 1;
+        }
+    }
+    return clipped;
+}
+
+// Exact factor from a differential area at p with unit normal n to the polygon `poly`, which
+// must lie in p's closed front half-space and be seen from its front (counter-clockwise about
+// its normal, as viewed from p): Lambert's contour formula, as used by Baum, Rushmeier & Winget
+// 1989 (SIGGRAPH, "Improving Radiosity Solutions Through the Use of Analytically Determined
+// Form-Factors"):
+//   F = -1/(2 pi) sum_k gamma_k dot(n, unit(v_k x v_k+1)),  v_k = corner_k - p,
+// gamma_k the angle between v_k and v_k+1, taken as atan2(|v_k x e_k|, v_k . v_k+1) with the edge
+// e_k = corner_k+1 - corner_k (v_k x v_k+1 = v_k x e_k without the cancellation).
+DAISY_HD float pointToPolygonFactor(vec3 p, vec3 n, DAISY_IN(ClippedPolygon) poly) {
+    float sum = 0.0f;
+    for (int k = 0; k < poly.count; ++k) {
+        int k1 = k + 1 == poly.count ? 0 : k + 1;
+        vec3 vk = poly.v[k] - p;
+        vec3 vk1 = poly.v[k1] - p;
+        vec3 g = cross(vk, poly.v[k1] - poly.v[k]);
+        float gLength = length(g);
+        if (gLength > 0.0f) {
+            float gamma = atan(gLength, dot(vk, vk1));
+            sum += gamma * (dot(n, g) / gLength);
+        }
+    }
+    return max(0.0f, -sum * DAISY_INV_TWO_PI);
+}
+
+// Unoccluded factor from a differential area at p with unit normal n to triangle t: 0 when p is
+// not in front of t (one-sided receiver); otherwise t is clipped to p's front half-space first,
+// so a t straddling p's tangent plane counts only the part p can see.
+DAISY_HD float pointToTriangleFactor(vec3 p, vec3 n, DAISY_IN(PatchGeometry) t) {
+    vec3 d = p - t.a;
+    if (dot(t.normal, d) <= planeEpsilon(length(d))) return 0.0f;
+    ClippedPolygon poly = clipTriangleToHalfSpace(t.a, t.b, t.c, p, n);
+    if (poly.count < 3) return 0.0f;
+    return pointToPolygonFactor(p, n, poly);
+}
+
+// Corners of quadrature cell `code` at `depth` levels below the root triangle (a, b, c): the
+// base-4 digits of code, least significant first, pick the selectSubTriangle child per level.
+DAISY_HD void cellCorners(uint code, int depth, DAISY_INOUT(vec3) a, DAISY_INOUT(vec3) b,
+                          DAISY_INOUT(vec3) c) {
+    for (int l = 0; l < depth; ++l) {
+        selectSubTriangle((code >> uint(2 * l)) & 3u, a, b, c);
+    }
+}
+
+// Kernel of the riemann rule between points xi on i and xj on j: cos_i cos_j / (pi r^2), 0
+// unless each point is in front of the other's patch.
+DAISY_HD float riemannKernel(vec3 xi, vec3 ni, vec3 xj, vec3 nj) {
+    vec3 d = xj - xi;
+    float r2 = dot(d, d);
+    float cosI = dot(ni, d);
+    float cosJ = -dot(nj, d);
+    if (cosI <= 0.0f || cosJ <= 0.0f || r2 <= 0.0f) return 0.0f;
+    return cosI * cosJ / (r2 * r2) * DAISY_INV_PI;
+}
+
+// riemann: the kernel at all pairs of 4^L cell centroids, one set on each patch, times the cell
+// area of j, averaged over i's cells (the seed's double-area rule; L = 1 is the 4x4 rule).
+// Over-estimates near shared edges and corners. The level-L midpoint cells of a triangle are the
+// n x n triangular grid (n = 2^L): upward cells with centroid barycentrics ((r + 1/3) / n,
+// (s + 1/3) / n) on (b, c), r + s <= n - 1, and downward ones at (r + 2/3, s + 2/3) / n,
+// r + s <= n - 2; j's are enumerated so, without decoding cell paths in the inner loop.
+DAISY_HD float riemannPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j) {
+    int cells = 1 << (2 * level);
+    int n = 1 << level;
+    float inv = 1.0f / float(n);
+    vec3 eb = j.b - j.a;
+    vec3 ec = j.c - j.a;
+    float sum = 0.0f;
+    for (int p = 0; p < cells; ++p) {
+        vec3 ia = i.a;
+        vec3 ib = i.b;
+        vec3 ic = i.c;
+        cellCorners(uint(p), level, ia, ib, ic);
+        vec3 xi = (ia + ib + ic) * (1.0f / 3.0f);
+        for (int r = 0; r < n; ++r) {
+            for (int s = 0; s < n - r; ++s) {
+                float u = (float(r) + 1.0f / 3.0f) * inv;
+                float v = (float(s) + 1.0f / 3.0f) * inv;
+                sum += riemannKernel(xi, i.normal, j.a + eb * u + ec * v, j.normal);
+                if (r + s < n - 1) {
+                    u = (float(r) + 2.0f / 3.0f) * inv;
+                    v = (float(s) + 2.0f / 3.0f) * inv;
+                    sum += riemannKernel(xi, i.normal, j.a + eb * u + ec * v, j.normal);
+                }
+            }
+        }
+    }
+    return sum * (j.area / float(cells)) / float(cells);
+}
+
+// nusselt: the exact point-to-polygon factor from i's centroid to j.
+DAISY_HD float nusseltPairFactor(DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j) {
+    return pointToTriangleFactor(patchCentroid(i), i.normal, j);
+}
+
+// Lower bound on the distance from a point x to patch j, in scene units: the larger of the
+// distances to j's plane and to j's bounding sphere (centre jCentre, radius jRadius).
+DAISY_HD float distanceLowerBound(vec3 x, DAISY_IN(PatchGeometry) j, vec3 jCentre, float jRadius) {
+    return max(abs(dot(j.normal, x - j.a)), length(x - jCentre) - jRadius);
+}
+
+// Mean over the triangle (a, b, c) of f(x) = pointToTriangleFactor(x, n, j) by the degree-2
+// three-point rule at barycentrics (2/3, 1/6, 1/6) and permutations (Strang & Fix 1973), which are
+// the centroids of the three corner children of the midpoint subdivision. It equals Richardson
+// extrapolation of the centroid rule, and never evaluates f on the cell's boundary.
+DAISY_HD float threePointRule(vec3 a, vec3 b, vec3 c, vec3 n, DAISY_IN(PatchGeometry) j) {
+    vec3 s = a + b + c;
+    float sum = pointToTriangleFactor((s + a * 3.0f) * (1.0f / 6.0f), n, j);
+    sum += pointToTriangleFactor((s + b * 3.0f) * (1.0f / 6.0f), n, j);
+    sum += pointToTriangleFactor((s + c * 3.0f) * (1.0f / 6.0f), n, j);
+    return sum * (1.0f / 3.0f);
+}
+
+// Bit k (k = 0, 1, 2 for a, b, c) set when that corner of the triangle (a, b, c) coincides with
+// a corner of j (within planeEpsilon of `size`): the patches share a vertex there.
+DAISY_HD uint sharedCornerMask(vec3 a, vec3 b, vec3 c, DAISY_IN(PatchGeometry) j, float size) {
+    vec3 corners[3] = {a, b, c};
+    float eps = planeEpsilon(size);
+    uint mask = 0u;
+    for (int k = 0; k < 3; ++k) {
+        vec3 x = corners[k];
+        if (distance(x, j.a) <= eps || distance(x, j.b) <= eps || distance(x, j.c) <= eps) {
+            mask |= 1u << uint(k);
+        }
+    }
+    return mask;
+}
+
+// True when cell (code, depth) of a root triangle contains root corner k, for a k in `mask`:
+// all its digits are k (selectSubTriangle's child k keeps corner k).
+DAISY_HD bool cellHasCorner(uint code, int depth, uint mask) {
+    uint digits = (1u << uint(2 * depth)) - 1u;
+    for (uint k = 0u; k < 3u; ++k) {
+        if ((mask & (1u << k)) != 0u && code == ((k * 0x55555555u) & digits)) return true;
+    }
+    return false;
+}
+
+// One cell of the hybrid refinement list: where it is, and threePointRule on each of its 4
+// children (their mean is the cell's estimate of the mean of f). 28 bytes.
+struct QuadratureCell {
+    uint code;  // path from its root triangle, 2 bits a level (cellCorners)
+    int depth;  // levels below the root triangle
+    int root;  // which triangle of the clipped piece (0 or 1)
+    float child0;  // threePointRule on child 0..3, mean of f (dimensionless)
+    float child1;
+    float child2;
+    float child3;
+};
+
+// Evaluates cell (code, depth) of root triangle (ra, rb, rc) into `cell`, given `value`, the
+// threePointRule on the cell itself, and returns its error estimate as a fraction of A_i:
+// share * |children's mean - value| with share = A_cell / A_i, the classic comparison of a rule
+// on a cell and on its children. At a vertex shared with j, f depends on the direction only, so
+// that difference can vanish by accident at every scale: there the estimate is at least
+// share * (largest child deviation) / 16.
+DAISY_HD float evaluateCell(uint code, int depth, int root, float value, vec3 ra, vec3 rb, vec3 rc,
+                            float share, uint sharedCorners, DAISY_IN(PatchGeometry) i,
+                            DAISY_IN(PatchGeometry) j, DAISY_INOUT(QuadratureCell) cell) {
+    vec3 a = ra;
+    vec3 b = rb;
+    vec3 c = rc;
+    cellCorners(code, depth, a, b, c);
+    float childValue[4];
+    for (int d = 0; d < 4; ++d) {
+        vec3 ca = a;
+        vec3 cb = b;
+        vec3 cc = c;
+        selectSubTriangle(uint(d), ca, cb, cc);
+        childValue[d] = threePointRule(ca, cb, cc, i.normal, j);
+    }
+    cell.code = code;
+    cell.depth = depth;
+    cell.root = root;
+    cell.child0 = childValue[0];
+    cell.child1 = childValue[1];
+    cell.child2 = childValue[2];
+    cell.child3 = childValue[3];
+    float mean = 0.25f * (childValue[0] + childValue[1] + childValue[2] + childValue[3]);
+    float error = share * abs(mean - value);
+    if (sharedCorners != 0u && cellHasCorner(code, depth, sharedCorners)) {
+        float deviation = 0.0f;
+        for (int d = 0; d < 4; ++d) {
+            deviation = max(deviation, abs(childValue[d] - value));
+        }
+        error = max(error, share * deviation * (1.0f / 16.0f));
+    }
+    return error;
+}
+
+DAISY_HD float cellMean(DAISY_IN(QuadratureCell) cell) {
+    return 0.25f * (cell.child0 + cell.child1 + cell.child2 + cell.child3);
+}
+
+// hybrid (Baum, Rushmeier & Winget 1989): F_ij = (1/A_i) integral over i of f(x), the
+// exact pointToTriangleFactor from x on i to j. i is first clipped to j's front half-space (the
+// rest sees j's back: f = 0), and each clipped piece split into 4^L cells. By a cell's distance
+// to j in cell diameters (distanceLowerBound): from DAISY_FF_FAR_RATIO on, its centroid value;
+// from DAISY_FF_MID_RATIO on, threePointRule; nearer, the cell joins a globally adaptive scheme
+// (as in QUADPACK's qag, Piessens et al. 1983): each listed cell carries the mean of its children's
+// threePointRule and an error estimate (evaluateCell); while the summed estimate exceeds
+// DAISY_FF_REL_TOL times the current F_ij, the cell with the largest estimate is split into its
+// children. f stays finite at a shared edge (its gradient has a log singularity) and depends only
+// on the direction at a shared vertex, so the refinement converges there too. The list holds
+// DAISY_FF_MAX_CELLS cells; when full (or a cell reaches DAISY_FF_MAX_DEPTH) refinement stops.
+// Near cells beyond 3/4 of the list (only for L >= 3) keep their children's mean unrefined.
+// Preconditions: i.area > 0, j.area > 0.
+DAISY_HD float hybridPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j) {
+    ClippedPolygon piece = clipTriangleToHalfSpace(i.a, i.b, i.c, j.a, j.normal);
+    if (piece.count < 3) return 0.0f;
+    vec3 jCentre = patchCentroid(j);
+    float jRadius = max(max(length(j.a - jCentre), length(j.b - jCentre)), length(j.c - jCentre));
+    float fixedPart = 0.0f;  // sum of share * mean over cells integrated by a fixed rule
+    QuadratureCell list[DAISY_FF_MAX_CELLS];
+    float listError[DAISY_FF_MAX_CELLS];
+    int count = 0;
+    float rootArea[2];
+    uint rootShared[2];
+    int cells = 1 << (2 * level);
+    float levelScale = 1.0f / float(1 << level);
+    for (int r = 0; r + 2 < piece.count; ++r) {
+        vec3 ra = piece.v[0];
+        vec3 rb = piece.v[r + 1];
+        vec3 rc = piece.v[r + 2];
+        rootArea[r] = 0.5f * length(cross(rb - ra, rc - ra));
+        float rootDiameter = max(max(length(rb - ra), length(rc - rb)), length(ra - rc));
+        rootShared[r] = sharedCornerMask(ra, rb, rc, j, rootDiameter);
+        float share = rootArea[r] * levelScale * levelScale / i.area;
+        for (int t = 0; t < cells; ++t) {
+            vec3 a = ra;
+            vec3 b = rb;
+            vec3 c = rc;
+            cellCorners(uint(t), level, a, b, c);
+            vec3 x = (a + b + c) * (1.0f / 3.0f);
+            float ratio = distanceLowerBound(x, j, jCentre, jRadius) / (rootDiameter * levelScale);
+            if (ratio >= DAISY_FF_FAR_RATIO) {
+                fixedPart += share * pointToTriangleFactor(x, i.normal, j);
+            } else if (ratio >= DAISY_FF_MID_RATIO) {
+                fixedPart += share * threePointRule(a, b, c, i.normal, j);
+            } else {
+                float value = threePointRule(a, b, c, i.normal, j);
+                int slot = min(count, DAISY_FF_MAX_CELLS - 1);
+                listError[slot] = evaluateCell(uint(t), level, r, value, ra, rb, rc, share,
+                                               rootShared[r], i, j, list[slot]);
+                if (4 * count < 3 * DAISY_FF_MAX_CELLS) {
+                    count += 1;
+                } else {
+                    fixedPart += share * cellMean(list[slot]);
+                }
+            }
+        }
+    }
+    while (true) {
+        float total = fixedPart;
+        float errorSum = 0.0f;
+        int worst = -1;
+        float worstError = 0.0f;
+        for (int k = 0; k < count; ++k) {
+            float share = rootArea[list[k].root] / i.area / float(1 << (2 * list[k].depth));
+            total += share * cellMean(list[k]);
+            errorSum += listError[k];
+            if (listError[k] > worstError && list[k].depth + 1 < DAISY_FF_MAX_DEPTH) {
+                worst = k;
+                worstError = listError[k];
+            }
+        }
+        if (errorSum <= DAISY_FF_REL_TOL * total || worst < 0 || count + 3 > DAISY_FF_MAX_CELLS) {
+            return total;
+        }
+        QuadratureCell parent = list[worst];
+        int r = parent.root;
+        vec3 ra = piece.v[0];
+        vec3 rb = piece.v[r + 1];
+        vec3 rc = piece.v[r + 2];
+        float childShare = rootArea[r] / i.area / float(1 << (2 * (parent.depth + 1)));
+        float childValue[4] = {parent.child0, parent.child1, parent.child2, parent.child3};
+        for (int d = 0; d < 4; ++d) {
+            int slot = d == 0 ? worst : count + d - 1;
+            uint code = parent.code | (uint(d) << uint(2 * parent.depth));
+            listError[slot] = evaluateCell(code, parent.depth + 1, r, childValue[d], ra, rb, rc,
+                                           childShare, rootShared[r], i, j, list[slot]);
+        }
+        count += 3;
+    }
+    return 0.0f;
+}
+
+// Unoccluded F_ij (fraction of the energy leaving i that arrives at j) by `method`
+// (DAISY_METHOD_*), with quadrature level `level` (clamped to 0..DAISY_MAX_QUADRATURE_LEVEL).
+// The caller chooses the direction: i gets the quadrature points (the accurate choice is the
+// smaller patch; pairFactors makes it). The stochastic method has no unoccluded kernel (its rays
+// carry visibility): it returns 0, as do unknown methods and facingAway pairs.
+DAISY_HD float pairFactorUnoccluded(int method, int level, DAISY_IN(PatchGeometry) i,
+                                    DAISY_IN(PatchGeometry) j) {
+    if (facingAway(i, j)) return 0.0f;
+    int l = clamp(level, 0, DAISY_MAX_QUADRATURE_LEVEL);
+    if (method == DAISY_METHOD_RIEMANN) return riemannPairFactor(l, i, j);
+    if (method == DAISY_METHOD_NUSSELT) return nusseltPairFactor(i, j);
+    if (method == DAISY_METHOD_HYBRID) return hybridPairFactor(l, i, j);
+    return 0.0f;
+}
+
+// Both unoccluded factors of the unordered pair {i, j}: computed once in the accurate direction
+// (quadrature on the patchPrecedes-first patch, the smaller one) and the other entry from
+// reciprocity A_i F_ij = A_j F_ji (DESIGN.md section 3). Swapping i and j swaps the results.
+DAISY_HD PairFactors pairFactors(int method, int level, DAISY_IN(PatchGeometry) i,
+                                 DAISY_IN(PatchGeometry) j) {
+    PairFactors f;
+    if (patchPrecedes(j, i)) {
+        f.fji = pairFactorUnoccluded(method, level, j, i);
+        f.fij = f.fji * (j.area / i.area);
+    } else {
+        f.fij = pairFactorUnoccluded(method, level, i, j);
+        f.fji = f.fij * (i.area / j.area);
+    }
+    return f;
+}
+
+DAISY_SHARED_END
+
+#endif  // DAISY_SHARED_FORMFACTOR_H

@@ -1,0 +1,259 @@
+// Form-factor kernels of src/shared/formfactor.h against analytic oracles: Howell's catalogue
+// (J. R. Howell, "A Catalog of Radiation Heat Transfer Configuration Factors", 3rd ed., entries
+// B-3, C-11, C-14), the enclosure rule (rows of a closed enclosure sum to 1) and reciprocity.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "shared/formfactor.h"
+
+namespace daisy::shared {
+namespace {
+
+constexpr double kPiD = 3.14159265358979323846;
+
+// Howell C-11: parallel coaxial unit squares at distance 1.
+constexpr double kHowellC11 = 0.199824895698;
+// Howell C-14: perpendicular unit squares sharing an edge.
+constexpr double kHowellC14 = 0.200043776075;
+
+struct Square {
+    PatchGeometry t[2];
+};
+
+// A planar quad p0..p3 (counter-clockwise about its front) as two triangles.
+Square square(vec3 p0, vec3 p1, vec3 p2, vec3 p3) {
+    return {{makePatchGeometry(p0, p1, p2), makePatchGeometry(p0, p2, p3)}};
+}
+
+// F between two squares from the 2 x 2 triangle pairs: F = sum_ij A_i F_ij / A_square.
+double squareFactor(int method, int level, const Square& from, const Square& to) {
+    double sum = 0.0;
+    double area = 0.0;
+    for (const PatchGeometry& i : from.t) {
+        area += i.area;
+        for (const PatchGeometry& j : to.t)
+            sum += i.area * pairFactors(method, level, i, j).fij;
+    }
+    return sum / area;
+}
+
+const Square kFloor = square({0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0});  // normal +z
+const Square kCeiling = square({0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1});  // normal -z
+const Square kWall = square({0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1});  // normal +x
+
+// Howell B-3: differential element under the corner of an a x b rectangle at unit distance,
+// parallel to it.
+double cornerFactor(double a, double b) {
+    double sa = std::sqrt(1.0 + a * a);
+    double sb = std::sqrt(1.0 + b * b);
+    return (a / sa * std::atan(b / sa) + b / sb * std::atan(a / sb)) / (2.0 * kPiD);
+}
+
+TEST(FormFactorPoint, MatchesHowellB3RectangleCorner) {
+    const double sizes[][2] = {{1.0, 1.0}, {0.25, 2.0}, {3.0, 0.5}, {10.0, 10.0}};
+    for (const auto& size : sizes) {
+        float a = float(size[0]);
+        float b = float(size[1]);
+        // Rectangle [0,a] x [0,b] at z = 1 facing down; the element at the origin faces up.
+        Square r = square({0, 0, 1}, {0, b, 1}, {a, b, 1}, {a, 0, 1});
+        vec3 p(0, 0, 0);
+        vec3 n(0, 0, 1);
+        double f = pointToTriangleFactor(p, n, r.t[0]) + pointToTriangleFactor(p, n, r.t[1]);
+        double expected = cornerFactor(size[0], size[1]);
+        EXPECT_NEAR(f, expected, 2e-6 * expected) << "a = " << a << ", b = " << b;
+    }
+}
+
+TEST(FormFactorPoint, InteriorPointSumsToOneInClosedBox) {
+    // Enclosure rule: from any point inside a closed box, the factors to all its walls sum to 1.
+    // A tilted normal makes several walls straddle the tangent plane, exercising the clipping.
+    std::vector<PatchGeometry> box;
+    const Square faces[] = {
+        square({0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}),
+        square({0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}),
+        square({0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}),
+        square({1, 0, 0}, {1, 0, 1}, {1, 1, 1}, {1, 1, 0}),
+        square({0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}),
+        square({0, 1, 0}, {1, 1, 0}, {1, 1, 1}, {0, 1, 1}),
+    };
+    for (const Square& s : faces)
+        box.insert(box.end(), {s.t[0], s.t[1]});
+    vec3 p(0.3f, 0.6f, 0.45f);
+    vec3 n = normalize(vec3(0.4f, -0.7f, 0.6f));
+    double sum = 0.0;
+    for (const PatchGeometry& t : box)
+        sum += pointToTriangleFactor(p, n, t);
+    EXPECT_NEAR(sum, 1.0, 1e-5);
+}
+
+TEST(FormFactorPoint, OneSidedAndClippedToTheFrontHalfSpace) {
+    PatchGeometry t = makePatchGeometry({-1, -1, 1}, {-1, 1, 1}, {1, 0, 1});  // faces -z
+    // Seen from behind (element above the triangle, looking up): 0.
+    EXPECT_EQ(pointToTriangleFactor({0, 0, 2}, {0, 0, 1}, t), 0.0f);
+    // Element facing away from the triangle: 0.
+    EXPECT_EQ(pointToTriangleFactor({0, 0, 0}, {0, 0, -1}, t), 0.0f);
+    // Element with normal +x at the origin sees only the triangle's part with x > 0: the factor
+    // equals that of the clipped piece built explicitly (Howell B-3-style additivity).
+    vec3 n(1, 0, 0);
+    PatchGeometry front = makePatchGeometry({0, -0.5f, 1}, {0, 0.5f, 1}, {1, 0, 1});
+    float whole = pointToTriangleFactor({0, 0, 0}, n, t);
+    EXPECT_GT(whole, 0.0f);
+    EXPECT_NEAR(whole, pointToTriangleFactor({0, 0, 0}, n, front), 1e-6f);
+}
+
+TEST(FormFactorPair, HowellC11ParallelSquares) {
+    double hybrid =
+        squareFactor(DAISY_METHOD_HYBRID, DAISY_DEFAULT_QUADRATURE_LEVEL, kFloor, kCeiling);
+    EXPECT_NEAR(hybrid, kHowellC11, 1e-3 * kHowellC11);  // the target: 0.1 %
+    EXPECT_NEAR(hybrid, kHowellC11, 1e-4 * kHowellC11);  // what it achieves (-1.4e-5)
+    // riemann converges as O(h^2) from above: L = 1 is ~5 % high, each level ~4x better.
+    double r1 = squareFactor(DAISY_METHOD_RIEMANN, 1, kFloor, kCeiling);
+    double r2 = squareFactor(DAISY_METHOD_RIEMANN, 2, kFloor, kCeiling);
+    EXPECT_GT(r1, r2);
+    EXPECT_GT(r2, kHowellC11);
+    EXPECT_LT(r2 - kHowellC11, 0.3 * (r1 - kHowellC11));
+}
+
+TEST(FormFactorPair, HowellC14PerpendicularSquaresSharingAnEdge) {
+    for (int level = 0; level <= 2; ++level) {
+        double hybrid = squareFactor(DAISY_METHOD_HYBRID, level, kFloor, kWall);
+        EXPECT_NEAR(hybrid, kHowellC14, 1e-4 * kHowellC14) << "L = " << level;
+    }
+    // The 4x4 riemann rule over-estimates at the shared edge (the seed's cube rows reach ~1.12).
+    EXPECT_GT(squareFactor(DAISY_METHOD_RIEMANN, 1, kFloor, kWall), 1.2 * kHowellC14);
+}
+
+// Unit cube with inward normals, each face an n x n grid of squares split into 2 triangles.
+std::vector<PatchGeometry> closedCube(int n) {
+    std::vector<PatchGeometry> out;
+    for (int axis = 0; axis < 3; ++axis) {
+        for (int side = 0; side < 2; ++side) {
+            int u = (axis + 1) % 3;
+            int v = (axis + 2) % 3;
+            for (int a = 0; a < n; ++a) {
+                for (int b = 0; b < n; ++b) {
+                    auto corner = [&](int iu, int iv) {
+                        float p[3];
+                        p[axis] = float(side);
+                        p[u] = float(iu) / float(n);
+                        p[v] = float(iv) / float(n);
+                        return vec3(p[0], p[1], p[2]);
+                    };
+                    vec3 p00 = corner(a, b), p10 = corner(a + 1, b);
+                    vec3 p11 = corner(a + 1, b + 1), p01 = corner(a, b + 1);
+                    if (side == 0) {
+                        out.push_back(makePatchGeometry(p00, p10, p11));
+                        out.push_back(makePatchGeometry(p00, p11, p01));
+                    } else {
+                        out.push_back(makePatchGeometry(p00, p11, p10));
+                        out.push_back(makePatchGeometry(p00, p01, p11));
+                    }
+                }
+            }
+        }
+    }
+    return out;
+}
+
+// Largest |row sum - 1| of the closed cube's matrix, each unordered pair computed once.
+double worstRowSumError(const std::vector<PatchGeometry>& patches, int method, int level) {
+    std::vector<double> rows(patches.size(), 0.0);
+    for (size_t i = 0; i < patches.size(); ++i) {
+        for (size_t j = i + 1; j < patches.size(); ++j) {
+            PairFactors f = pairFactors(method, level, patches[i], patches[j]);
+            rows[i] += f.fij;
+            rows[j] += f.fji;
+        }
+    }
+    double worst = 0.0;
+    for (double row : rows)
+        worst = std::max(worst, std::abs(row - 1.0));
+    return worst;
+}
+
+TEST(FormFactorPair, ClosedCubeRowsSumToOne) {
+    // Enclosure rule: every row of a closed enclosure's matrix sums to 1 (DESIGN.md section 2).
+    // 12 triangles, then each face as 8 triangles (48).
+    EXPECT_LT(worstRowSumError(closedCube(1), DAISY_METHOD_HYBRID, 1), 1e-4);
+    EXPECT_LT(worstRowSumError(closedCube(2), DAISY_METHOD_HYBRID, 1), 1e-4);
+    // The 4x4 riemann rule's rows are ~12-16 % high here: the reason hybrid is the default.
+    EXPECT_GT(worstRowSumError(closedCube(1), DAISY_METHOD_RIEMANN, 1), 0.1);
+}
+
+TEST(FormFactorPair, CoplanarPairsAreZero) {
+    std::vector<PatchGeometry> cube = closedCube(2);
+    // Patches 0..7 are the z = 0 face.
+    for (int i = 0; i < 8; ++i) {
+        for (int j = i + 1; j < 8; ++j) {
+            EXPECT_TRUE(facingAway(cube[i], cube[j]));
+            PairFactors f = pairFactors(DAISY_METHOD_HYBRID, 1, cube[i], cube[j]);
+            EXPECT_EQ(f.fij, 0.0f);
+            EXPECT_EQ(f.fji, 0.0f);
+        }
+    }
+}
+
+TEST(FormFactorPair, FacingAway) {
+    PatchGeometry up = makePatchGeometry({0, 0, 0}, {1, 0, 0}, {0, 1, 0});  // normal +z
+    PatchGeometry down = makePatchGeometry({0, 0, 0}, {0, 1, 0}, {1, 0, 0});  // normal -z
+    PatchGeometry above = makePatchGeometry({0, 0, 1}, {0, 1, 1}, {1, 0, 1});  // faces up's front
+    PatchGeometry aboveUp = makePatchGeometry({0, 0, 1}, {1, 0, 1}, {0, 1, 1});  // faces away
+    EXPECT_TRUE(facingAway(up, down));  // back to back, coplanar
+    EXPECT_TRUE(facingAway(up, up));  // coplanar
+    EXPECT_FALSE(facingAway(up, above));
+    EXPECT_FALSE(facingAway(above, up));
+    EXPECT_TRUE(facingAway(up, aboveUp));
+    EXPECT_TRUE(facingAway(down, above));  // above is behind down
+    // Outside of a convex edge (a cube seen from outside): facing away.
+    PatchGeometry wallOut = makePatchGeometry({0, 0, 0}, {0, 0, 1}, {0, 1, 0});  // normal -x
+    EXPECT_TRUE(facingAway(up, wallOut));
+    // Each partly in front of the other (straddling each other's planes): not facing away.
+    PatchGeometry straddle = makePatchGeometry({0.5f, 0.5f, -1}, {0.5f, 0.5f, 1}, {2, 2, 0});
+    EXPECT_FALSE(facingAway(up, straddle));
+    EXPECT_FALSE(facingAway(straddle, up));
+}
+
+TEST(FormFactorPair, ReciprocityExactAndOrderIndependent) {
+    PatchGeometry small = makePatchGeometry({0, 0, 0}, {0.3f, 0, 0}, {0, 0.2f, 0});
+    PatchGeometry large = makePatchGeometry({-1, -1, 0.7f}, {-1, 2, 0.9f}, {2, 0, 1.1f});
+    for (int method : {DAISY_METHOD_RIEMANN, DAISY_METHOD_NUSSELT, DAISY_METHOD_HYBRID}) {
+        PairFactors f = pairFactors(method, 1, small, large);
+        PairFactors g = pairFactors(method, 1, large, small);
+        EXPECT_GT(f.fij, 0.0f);
+        EXPECT_NEAR(small.area * f.fij, large.area * f.fji, 1e-6f * small.area * f.fij);
+        // Swapping the arguments swaps the results, bit for bit.
+        EXPECT_EQ(f.fij, g.fji);
+        EXPECT_EQ(f.fji, g.fij);
+        // The accurate direction: quadrature on the smaller patch.
+        EXPECT_EQ(f.fij, pairFactorUnoccluded(method, 1, small, large));
+    }
+    EXPECT_EQ(pairFactorUnoccluded(DAISY_METHOD_STOCHASTIC, 1, small, large), 0.0f);
+}
+
+TEST(FormFactorPair, NusseltIsTheCentroidFactor) {
+    PairFactors f = pairFactors(DAISY_METHOD_NUSSELT, 1, kFloor.t[0], kCeiling.t[0]);
+    EXPECT_EQ(f.fij,
+              pointToTriangleFactor(patchCentroid(kFloor.t[0]), kFloor.t[0].normal, kCeiling.t[0]));
+}
+
+TEST(FormFactorPair, ClipsBothPatchesToEachOthersFrontSide) {
+    // j straddles i's plane and i straddles j's: F_ij over the whole patches equals the sum over
+    // the pieces in front (the parts behind see nothing), split into triangles here by hand.
+    PatchGeometry i = makePatchGeometry({0, 0, 0}, {2, 0, 0}, {0, 2, 0});  // z = 0, normal +z
+    // j in the plane x = 1, normal -x, spanning z in [-1, 1].
+    PatchGeometry j = makePatchGeometry({1, 0, -1}, {1, 0, 1}, {1, 1, 1});
+    // Its part in front of i (z >= 0): the triangle (1,0,0) (1,0,1) (1,1,1) and
+    // (1,0,0) (1,1,1) (1,0.5,0).
+    PatchGeometry j0 = makePatchGeometry({1, 0, 0}, {1, 0, 1}, {1, 1, 1});
+    PatchGeometry j1 = makePatchGeometry({1, 0, 0}, {1, 1, 1}, {1, 0.5f, 0});
+    float whole = pairFactorUnoccluded(DAISY_METHOD_HYBRID, 1, i, j);
+    float pieces = pairFactorUnoccluded(DAISY_METHOD_HYBRID, 1, i, j0) +
+        pairFactorUnoccluded(DAISY_METHOD_HYBRID, 1, i, j1);
+    EXPECT_GT(whole, 0.0f);
+    EXPECT_NEAR(whole, pieces, 5e-4f * whole);
+}
+
+}  // namespace
+}  // namespace daisy::shared
