@@ -102,13 +102,13 @@ int main(int argc, char** argv) {
                                              : daisy::Verbosity::Normal);
 
     if (*infoCmd) return runInfo(common);
+    if (*formFactorsCmd) return runFormFactors(common, exports);
     if (*validateCmd && common.backend != "vulkan" && common.backend != "cuda") {
         daisy::logError("daisy validate: --backend must be vulkan or cuda");
         return 2;
     }
     if (*renderCmd) return notBuiltYet("render", "the image renderer");
     if (*solveCmd) return notBuiltYet("solve", "the radiosity solver");
-    if (*formFactorsCmd) return notBuiltYet("formfactors", "the view-factor matrix");
     if (*viewCmd) return notBuiltYet("view", "the viewer");
     if (*validateCmd) return notBuiltYet("validate", "the GPU backends");
     if (*benchCmd) return notBuiltYet("bench", "the benchmark driver");

@@ -53,6 +53,11 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
         ->check(CLI::Range(0, 4096))
         ->capture_default_str();
     command
+        .add_option("--stochastic-rays", options.stochasticRays,
+                    "Rays per patch for --method stochastic")
+        ->check(CLI::Range(1, 1 << 24))
+        ->capture_default_str();
+    command
         .add_option("--subdivide", options.subdivideMaxEdge,
                     "Subdivide patches to this maximum edge length (0 = none)")
         ->check(CLI::NonNegativeNumber)

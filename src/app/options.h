@@ -18,6 +18,7 @@ struct CommonOptions {
     std::string method = "hybrid";  // hybrid | riemann | nusselt | stochastic
     int quadratureLevel = 1;  // L: 4^L points per patch
     int raysPerPair = 16;  // K shadow rays per pair; 0 = no visibility test
+    int stochasticRays = 1024;  // N rays per patch for --method stochastic
     double subdivideMaxEdge = 0;  // scene units; 0 = keep the input triangles
     std::string wavelengths = "auto";  // see spectral/wavelength_spec.h
     WavelengthSpec wavelengthSpec;  // parsed from `wavelengths`

@@ -129,9 +129,6 @@ TEST(Cli, StagesNotBuiltYetSaySoAndExitTwo) {
         EXPECT_EQ(run.status, 2) << command;
         EXPECT_NE(run.output.find("not built yet"), std::string::npos) << run.output;
     }
-    const RunResult formFactors = runDaisy("formfactors " + scene + " -o /tmp/F.mtx");
-    EXPECT_EQ(formFactors.status, 2);
-    EXPECT_NE(formFactors.output.find("not built yet"), std::string::npos);
 }
 
 }  // namespace

@@ -1,0 +1,249 @@
+#include "backend/embree_ray_caster.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "core/strings.h"
+
+namespace daisy {
+
+struct EmbreeRayCaster::Impl {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    PacketMode mode = PacketMode::Packet16;
+    float selfMargin = 0;  // closest-hit tnear, scene units
+
+    ~Impl() {
+        if (scene != nullptr) rtcReleaseScene(scene);
+        if (device != nullptr) rtcReleaseDevice(device);
+    }
+};
+
+namespace {
+
+std::string deviceError(RTCDevice device) {
+    switch (rtcGetDeviceError(device)) {
+        case RTC_ERROR_NONE:
+            return "no error";
+        case RTC_ERROR_OUT_OF_MEMORY:
+            return "out of memory";
+        case RTC_ERROR_UNSUPPORTED_CPU:
+            return "unsupported CPU";
+        case RTC_ERROR_INVALID_ARGUMENT:
+            return "invalid argument";
+        case RTC_ERROR_INVALID_OPERATION:
+            return "invalid operation";
+        default:
+            return "unknown error";
+    }
+}
+
+// Segment k as a ray: origin, direction end - origin, t in [margin, 1 - margin].
+void setSegmentRay(const SegmentArrays& s, std::size_t k, float& ox, float& oy, float& oz,
+                   float& dx, float& dy, float& dz, float& tnear, float& tfar) {
+    ox = s.x0[k];
+    oy = s.y0[k];
+    oz = s.z0[k];
+    dx = s.x1[k] - s.x0[k];
+    dy = s.y1[k] - s.y0[k];
+    dz = s.z1[k] - s.z0[k];
+    tnear = RayCaster::kSegmentMargin;
+    tfar = 1.0f - RayCaster::kSegmentMargin;
+}
+
+template <int N, typename RayN>
+void occludedPackets(RTCScene scene, const SegmentArrays& segments, std::span<uint8_t> blocked,
+                     void (*occludedN)(const int*, RTCScene, RTCIntersectContext*, RayN*)) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(64) RayN packet;
+    alignas(64) int valid[N];
+    for (int k = 0; k < N; ++k) {
+        packet.time[k] = 0;
+        packet.mask[k] = 0xffffffffu;
+        packet.id[k] = 0;
+        packet.flags[k] = 0;
+    }
+    const std::size_t total = segments.size();
+    for (std::size_t base = 0; base < total; base += N) {
+        const std::size_t count = std::min<std::size_t>(N, total - base);
+        for (int k = 0; k < N; ++k) {
+            const std::size_t s = base + std::min<std::size_t>(k, count - 1);
+            valid[k] = std::size_t(k) < count && !segments.empty(s) ? -1 : 0;
+            setSegmentRay(segments, s, packet.org_x[k], packet.org_y[k], packet.org_z[k],
+                          packet.dir_x[k], packet.dir_y[k], packet.dir_z[k], packet.tnear[k],
+                          packet.tfar[k]);
+        }
+        occludedN(valid, scene, &context, &packet);
+        for (std::size_t k = 0; k < count; ++k)  // Embree sets tfar = -inf on a hit
+            blocked[base + k] = valid[k] != 0 && packet.tfar[k] < 0 ? 1 : 0;
+    }
+}
+
+}  // namespace
+
+const char* packetModeName(PacketMode mode) {
+    switch (mode) {
+        case PacketMode::Single:
+            return "single";
+        case PacketMode::Packet4:
+            return "packet4";
+        case PacketMode::Packet8:
+            return "packet8";
+        case PacketMode::Packet16:
+            return "packet16";
+        case PacketMode::Stream:
+            return "stream";
+    }
+    return "?";
+}
+
+Expected<std::unique_ptr<EmbreeRayCaster>> EmbreeRayCaster::create(const PatchMesh& mesh,
+                                                                   PacketMode mode) {
+    auto impl = std::make_unique<Impl>();
+    impl->mode = mode;
+    impl->device = rtcNewDevice(nullptr);
+    if (impl->device == nullptr) {
+        return Error{
+            concat("cpu backend: Embree could not create a device (", deviceError(nullptr), ")")};
+    }
+    impl->scene = rtcNewScene(impl->device);
+    rtcSetSceneBuildQuality(impl->scene, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry geometry = rtcNewGeometry(impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                3 * sizeof(float), std::max<std::size_t>(1, mesh.vertexCount())));
+    auto* indices = static_cast<uint32_t*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(uint32_t), mesh.patchCount()));
+    if (vertices == nullptr || (indices == nullptr && mesh.patchCount() > 0)) {
+        const std::string why = deviceError(impl->device);
+        rtcReleaseGeometry(geometry);
+        return Error{concat("cpu backend: Embree could not allocate the scene (", why, ")")};
+    }
+    Bounds3d bounds;
+    for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
+        vertices[3 * v + 0] = static_cast<float>(mesh.positions[v].x);
+        vertices[3 * v + 1] = static_cast<float>(mesh.positions[v].y);
+        vertices[3 * v + 2] = static_cast<float>(mesh.positions[v].z);
+        bounds.extend(mesh.positions[v]);
+    }
+    for (std::size_t p = 0; p < mesh.patchCount(); ++p)
+        std::memcpy(indices + 3 * p, mesh.patches[p].data(), 3 * sizeof(uint32_t));
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometryByID(impl->scene, geometry, 0);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(impl->scene);
+    if (rtcGetDeviceError(impl->device) != RTC_ERROR_NONE) {
+        return Error{concat("cpu backend: Embree could not build the scene (",
+                            deviceError(impl->device), ")")};
+    }
+    // Closest-hit rays start on their patch: skip hits nearer than float rounding at the
+    // scene's scale, times a safety factor.
+    impl->selfMargin = static_cast<float>(1e-6 * std::max(1e-30, bounds.diagonal()));
+    return std::unique_ptr<EmbreeRayCaster>(new EmbreeRayCaster(std::move(impl)));
+}
+
+EmbreeRayCaster::EmbreeRayCaster(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+EmbreeRayCaster::~EmbreeRayCaster() = default;
+
+PacketMode EmbreeRayCaster::packetMode() const {
+    return impl_->mode;
+}
+void EmbreeRayCaster::setPacketMode(PacketMode mode) {
+    impl_->mode = mode;
+}
+
+void EmbreeRayCaster::occluded(const SegmentArrays& segments, std::span<uint8_t> blocked) const {
+    RTCScene scene = impl_->scene;
+    switch (impl_->mode) {
+        case PacketMode::Single: {
+            RTCIntersectContext context;
+            rtcInitIntersectContext(&context);
+            for (std::size_t k = 0; k < segments.size(); ++k) {
+                blocked[k] = 0;
+                if (segments.empty(k)) continue;
+                RTCRay ray;
+                setSegmentRay(segments, k, ray.org_x, ray.org_y, ray.org_z, ray.dir_x, ray.dir_y,
+                              ray.dir_z, ray.tnear, ray.tfar);
+                ray.time = 0;
+                ray.mask = 0xffffffffu;
+                ray.id = 0;
+                ray.flags = 0;
+                rtcOccluded1(scene, &context, &ray);
+                blocked[k] = ray.tfar < 0 ? 1 : 0;
+            }
+            return;
+        }
+        case PacketMode::Packet4:
+            occludedPackets<4, RTCRay4>(scene, segments, blocked, rtcOccluded4);
+            return;
+        case PacketMode::Packet8:
+            occludedPackets<8, RTCRay8>(scene, segments, blocked, rtcOccluded8);
+            return;
+        case PacketMode::Packet16:
+            occludedPackets<16, RTCRay16>(scene, segments, blocked, rtcOccluded16);
+            return;
+        case PacketMode::Stream: {
+            RTCIntersectContext context;
+            rtcInitIntersectContext(&context);
+            context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+            constexpr std::size_t kBatch = 256;
+            alignas(64) RTCRay rays[kBatch];
+            uint32_t source[kBatch];
+            std::size_t next = 0;
+            while (next < segments.size()) {
+                std::size_t count = 0;
+                for (; next < segments.size() && count < kBatch; ++next) {
+                    blocked[next] = 0;
+                    if (segments.empty(next)) continue;
+                    source[count] = static_cast<uint32_t>(next);
+                    RTCRay& ray = rays[count++];
+                    setSegmentRay(segments, next, ray.org_x, ray.org_y, ray.org_z, ray.dir_x,
+                                  ray.dir_y, ray.dir_z, ray.tnear, ray.tfar);
+                    ray.time = 0;
+                    ray.mask = 0xffffffffu;
+                    ray.id = 0;
+                    ray.flags = 0;
+                }
+                rtcOccluded1M(scene, &context, rays, static_cast<unsigned>(count), sizeof(RTCRay));
+                for (std::size_t k = 0; k < count; ++k)
+                    blocked[source[k]] = rays[k].tfar < 0 ? 1 : 0;
+            }
+            return;
+        }
+    }
+}
+
+void EmbreeRayCaster::closestHits(std::span<const Ray> rays, std::span<uint32_t> hits) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    for (std::size_t k = 0; k < rays.size(); ++k) {
+        RTCRayHit rayHit;
+        RTCRay& ray = rayHit.ray;
+        ray.org_x = rays[k].origin[0];
+        ray.org_y = rays[k].origin[1];
+        ray.org_z = rays[k].origin[2];
+        ray.dir_x = rays[k].direction[0];
+        ray.dir_y = rays[k].direction[1];
+        ray.dir_z = rays[k].direction[2];
+        ray.tnear = impl_->selfMargin;
+        ray.tfar = std::numeric_limits<float>::infinity();
+        ray.time = 0;
+        ray.mask = 0xffffffffu;
+        ray.id = 0;
+        ray.flags = 0;
+        rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rayHit.hit.primID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(impl_->scene, &context, &rayHit);
+        hits[k] = rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID ? kNoPatch : rayHit.hit.primID;
+    }
+}
+
+}  // namespace daisy

@@ -1,0 +1,88 @@
+#pragma once
+// The form-factor driver (DESIGN.md section 3): builds the sparse view-factor matrix F of a
+// PatchMesh with one of four methods, visibility from a backend's RayCaster, each unordered pair
+// computed once and its mirror entry filled by reciprocity A_i F_ij = A_j F_ji.
+//
+// Pair loop: rows are cut into clusters (runs of coplanar patches, radiosity/patch_clusters.h),
+// grouped into row blocks of >= 32 rows, one TBB task each. A task computes F_ij for its rows i
+// and every column j > i, cluster pair by cluster pair, and writes both F_ij and its mirror
+// F_ji = F_ij A_i / A_j straight into the CSR arrays. A first pass marks the candidate pairs
+// (not facing away) in a bitmap and counts them per row and per (row block, column), which
+// sizes every row exactly and tells each block where its mirrored entries go; so memory is the
+// CSR itself plus n^2/16 bytes of bitmap and n^2/8 of block tables, never triplets. Stored
+// zeros (pairs found fully hidden) are dropped at the end. Every value is a pure function of
+// (i, j, settings), so F is bit-identical for any thread count.
+//
+// Visibility V_ij: K shadow segments between stratified points (shared/sampling.h), any-hit.
+// Skipped when it cannot change the answer: facing-away pairs are 0 without rays; pairs whose
+// shaft (conv(i u j)) nothing else enters get V = 1, and pairs whose shaft one solid face crosses
+// entirely get V = 0, without rays (radiosity/shaft.h, patch_clusters.h): tested for the whole
+// cluster pair, then for ever smaller node pairs against the short list of blockers left.
+#include <cstdint>
+#include <string>
+
+#include "core/expected.h"
+#include "geometry/patch_mesh.h"
+#include "radiosity/ray_caster.h"
+#include "radiosity/sparse_matrix.h"
+
+namespace daisy {
+
+enum class FormFactorMethod { Riemann, Nusselt, Stochastic, Hybrid };
+
+// "riemann" -> Riemann, ...; false for unknown names.
+bool parseFormFactorMethod(const std::string& name, FormFactorMethod& method);
+const char* formFactorMethodName(FormFactorMethod method);
+
+struct FormFactorSettings {
+    FormFactorMethod method = FormFactorMethod::Hybrid;
+    int quadratureLevel = 1;  // L: 4^L quadrature cells per patch (riemann, hybrid)
+    int raysPerPair = 16;  // K shadow segments per pair; 0 = no visibility (V = 1)
+    int stochasticRays = 1024;  // N rays per patch (stochastic)
+    uint64_t seed = 1;  // of every sample sequence
+    int threads = 0;  // worker threads; 0 = all hardware threads
+    uint64_t maxMemoryBytes = 0;  // refuse a build needing more; 0 = no limit
+    bool shaftCulling = true;  // off only to measure what it saves
+    bool progress = true;  // progress line on a terminal (core/progress.h decides if shown)
+};
+
+struct FormFactorStats {
+    uint64_t patches = 0;
+    uint64_t pairs = 0;  // unordered pairs i < j
+    uint64_t facingAway = 0;  // pairs skipped: no part of one is in front of the other
+    uint64_t zeroFactor = 0;  // visible candidate pairs whose unoccluded factor is 0
+    uint64_t clearClusterShafts = 0;  // pairs with V = 1 from a clear cluster-pair shaft
+    uint64_t clearPairShafts = 0;  // pairs with V = 1 from a clear refined (smaller) shaft
+    uint64_t coveredPairs = 0;  // pairs with V = 0 without rays: a solid face cuts the shaft
+    uint64_t tracedPairs = 0;  // pairs whose visibility was ray cast
+    uint64_t hiddenPairs = 0;  // traced pairs with V = 0
+    uint64_t openPairs = 0;  // traced pairs with V = 1 (every ray reached)
+    uint64_t raysCast = 0;  // shadow segments (or stochastic rays)
+    uint64_t clusters = 0;
+    uint64_t shaftsBuilt = 0;  // shafts constructed for culling
+    uint64_t slots = 0;  // CSR entries allocated before zeros were dropped
+    uint64_t nonzeros = 0;
+    uint64_t workBytes = 0;  // peak bytes of the build: CSR slots + bitmap + scratch
+    double countSeconds = 0;  // candidate pass
+    double pairSeconds = 0;  // pair loop (factors and visibility)
+    double compactSeconds = 0;  // removal of the stored zeros
+    double totalSeconds = 0;
+};
+
+struct FormFactorResult {
+    SparseMatrix matrix;
+    FormFactorStats stats;
+};
+
+// Bytes the build will hold at its peak for `candidatePairs` unordered candidate pairs among n
+// patches: the CSR with 2 x candidatePairs slots, the candidate bitmap, the row blocks' column
+// tables and per-thread scratch.
+uint64_t formFactorWorkBytes(uint64_t patchCount, uint64_t candidatePairs);
+
+// Builds F. Fails with a message (exit status 2 in the app) when the settings are out of range
+// or the build would need more than settings.maxMemoryBytes.
+Expected<FormFactorResult> computeFormFactors(const PatchMesh& mesh,
+                                              const FormFactorSettings& settings,
+                                              const RayCaster& rays);
+
+}  // namespace daisy

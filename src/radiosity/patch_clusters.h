@@ -1,0 +1,75 @@
+#pragma once
+// Patch groups for shaft culling (radiosity/shaft.h).
+//
+// Clusters: maximal runs of consecutive patches (in patch order) lying in one plane, at most
+// kMaxClusterSize long. A cluster is a contiguous index range, so a block of rows or columns of
+// F; because its patches are coplanar, none can block a ray leaving another (rays leave the
+// plane at once), so shaft queries for a cluster pair skip both clusters' own patches. Each
+// cluster carries a binary tree of its index range halved down to single patches, each node
+// with a convex outline enclosing its patches, so a partly blocked cluster pair can be refined
+// into smaller shafts. Typical meshes list neighbouring triangles together, so runs are
+// spatially compact; a scene in random order still works, with smaller clusters.
+//
+// Solid faces: maximal coplanar runs (any length) whose triangles exactly tile their convex
+// outline (areas add up), e.g. a subdivided box face. A shaft that crosses a solid face
+// entirely (every segment from one end to the other passes through its interior) is blocked.
+//
+// Blockers: what shaft queries test, each a convex polygon: every solid face as one polygon
+// (it enters a shaft exactly when one of its patches does, so it replaces them all), and every
+// patch outside solid faces as its own triangle.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "geometry/patch_mesh.h"
+#include "radiosity/shaft.h"
+
+namespace daisy {
+
+inline constexpr uint32_t kMaxClusterSize = 32;
+inline constexpr int kMaxOutlineVertices = kMaxPolygonVertices;
+inline constexpr uint32_t kNoFace = 0xffffffffu;
+
+struct ClusterNode {
+    uint32_t begin = 0;  // first patch
+    uint32_t end = 0;  // one past the last patch
+    uint32_t outlineBegin = 0;  // into PatchClusters::outlinePoints
+    uint32_t outlineCount = 0;
+    uint32_t firstChild = 0;  // the two children are nodes firstChild, firstChild + 1; 0 = leaf
+};
+
+struct SolidFace {
+    Vec3d normal;  // unit
+    double offset = 0;  // plane: dot(normal, x) = offset
+    std::vector<Vec3d> outline;  // convex, counter-clockwise about normal
+    std::vector<Vec3d> inwardEdgeNormals;  // unit, in the plane, one per outline edge
+};
+
+struct PatchClusters {
+    std::vector<uint32_t> clusterRoot;  // per cluster: its root node
+    std::vector<ClusterNode> nodes;
+    std::vector<Vec3d> outlinePoints;
+    std::vector<SolidFace> faces;
+    std::vector<uint32_t> patchFace;  // per patch: its solid face, or kNoFace
+    std::vector<ShaftPolygon> blockers;
+    std::vector<uint32_t> blockerFace;  // per blocker: its solid face, or kNoFace (a patch)
+
+    std::size_t clusterCount() const { return clusterRoot.size(); }
+    const ClusterNode& cluster(std::size_t c) const { return nodes[clusterRoot[c]]; }
+    std::span<const Vec3d> outline(const ClusterNode& node) const {
+        return {outlinePoints.data() + node.outlineBegin, node.outlineCount};
+    }
+};
+
+// `tolerance` (scene units): how far a corner may lie off the plane and still count as in it.
+PatchClusters buildPatchClusters(const PatchMesh& mesh, double tolerance,
+                                 uint32_t maxClusterSize = kMaxClusterSize);
+
+// True when every segment from a point of conv(p) to a point of conv(q) crosses the interior of
+// `face`: p and q lie strictly on opposite sides of its plane (by more than `margin`), and the
+// crossing points of all vertex-to-vertex segments, whose convex hull holds every crossing,
+// lie inside its outline by more than `margin`.
+bool faceCoversShaft(const SolidFace& face, std::span<const Vec3d> p, std::span<const Vec3d> q,
+                     double margin);
+
+}  // namespace daisy

@@ -1,0 +1,53 @@
+#pragma once
+// The view-factor matrix F in compressed sparse row form (DESIGN.md section 3): uint64 row
+// offsets, uint32 column indices, float values. Row i holds the non-zero F_ij in ascending
+// column order; absent entries are zero. F is square (patches x patches).
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace daisy {
+
+struct SparseMatrix {
+    uint32_t size = 0;  // rows = columns = patch count
+    std::vector<uint64_t> rowOffsets;  // size + 1; row i is [rowOffsets[i], rowOffsets[i + 1])
+    std::vector<uint32_t> columns;  // per stored entry, ascending within a row
+    std::vector<float> values;  // per stored entry
+
+    // An all-zero n x n matrix (offsets only).
+    static SparseMatrix zeros(uint32_t n);
+
+    uint64_t nonzeroCount() const { return columns.size(); }
+    uint64_t rowLength(uint32_t row) const { return rowOffsets[row + 1] - rowOffsets[row]; }
+    std::span<const uint32_t> rowColumns(uint32_t row) const {
+        return {columns.data() + rowOffsets[row], rowLength(row)};
+    }
+    std::span<const float> rowValues(uint32_t row) const {
+        return {values.data() + rowOffsets[row], rowLength(row)};
+    }
+    // Entry (row, column) by binary search; 0 when not stored. O(log row length).
+    float at(uint32_t row, uint32_t column) const;
+    // Bytes held by the three arrays: 8 (n + 1) + 8 nnz.
+    uint64_t bytes() const;
+};
+
+// CSR bytes for n rows and nnz stored entries: 8 (n + 1) + (4 + 4) nnz.
+uint64_t sparseMatrixBytes(uint64_t rows, uint64_t nonzeros);
+
+// Sum of each row, accumulated in double.
+std::vector<double> rowSums(const SparseMatrix& matrix);
+
+// The transpose, rows in ascending column order (a counting sort: O(n + nnz), deterministic).
+SparseMatrix transpose(const SparseMatrix& matrix);
+
+// Removes stored entries equal to zero, in place (rows compacted in parallel), keeping order;
+// the memory past the new end is returned to the system without copying the arrays.
+void dropZeros(SparseMatrix& matrix);
+
+// Checks the structure: offsets monotone and consistent, columns in range and strictly
+// ascending per row, values finite. Returns an empty string or what is wrong (for tests and
+// DAISY_CHECKs).
+std::string validateStructure(const SparseMatrix& matrix);
+
+}  // namespace daisy

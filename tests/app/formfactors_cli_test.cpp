@@ -1,0 +1,106 @@
+// `daisy formfactors` end to end (DESIGN.md section 9): the files it writes, the memory refusal
+// and the backend registry, through the real executable.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "radiosity/matrix_market.h"
+#include "test_util.h"
+
+namespace daisy {
+namespace {
+
+struct RunResult {
+    int status = -1;
+    std::string output;  // stdout and stderr
+};
+
+RunResult runDaisy(const std::string& arguments) {
+    RunResult result;
+    const std::string command = std::string(DAISY_EXE_PATH) + " " + arguments + " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return result;
+    std::array<char, 4096> buffer;
+    std::size_t count;
+    while ((count = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+        result.output.append(buffer.data(), count);
+    const int raw = pclose(pipe);
+    result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    return result;
+}
+
+const std::string kCornellBox = std::string(DAISY_ASSETS_DIR) + "/scenes/cornell_box.gltf";
+
+std::string readText(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+TEST(FormFactorsCli, WritesTheMatrixAndThePatchTable) {
+    const auto dir = test::testTempDir();
+    const auto matrixPath = (dir / "F.mtx").string();
+    const auto patchesPath = (dir / "patches.csv").string();
+    const RunResult run = runDaisy("formfactors " + kCornellBox + " -o " + matrixPath +
+                                   " --patches-out " + patchesPath + " --verbose");
+    ASSERT_EQ(run.status, 0) << run.output;
+    EXPECT_NE(run.output.find("facing away"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("clear shafts"), std::string::npos) << run.output;
+
+    auto matrix = readMatrixMarket(matrixPath);
+    ASSERT_TRUE(matrix.ok()) << matrix.error().message;
+    EXPECT_EQ(matrix->size, 32u);  // the Cornell box's 32 triangles
+    EXPECT_GT(matrix->nonzeroCount(), 0u);
+    // An open box: every row sums to at most 1 (the rest leaves through the opening).
+    for (double sum : rowSums(*matrix))
+        EXPECT_LE(sum, 1.0 + 1e-4);
+    EXPECT_EQ(readText(matrixPath).rfind("%%MatrixMarket matrix coordinate real general\n", 0), 0u);
+
+    const std::string csv = readText(patchesPath);
+    EXPECT_EQ(csv.rfind("patch,triangle,area,cx,cy,cz,nx,ny,nz,material\n0,0,", 0), 0u) << csv;
+    EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 33);
+}
+
+// Refused before any work, exit status 2, one line naming the limit; no file is left behind.
+TEST(FormFactorsCli, RefusesOverMaxMemory) {
+    const auto dir = test::testTempDir();
+    const auto matrixPath = dir / "F.mtx";
+    const RunResult run = runDaisy("formfactors " + kCornellBox + " --subdivide 0.01 -o " +
+                                   matrixPath.string() + " --max-memory 1M --quiet");
+    EXPECT_EQ(run.status, 2) << run.output;
+    EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
+    EXPECT_NE(run.output.find("--max-memory 1.00 MiB"), std::string::npos) << run.output;
+    EXPECT_FALSE(std::filesystem::exists(matrixPath));
+}
+
+TEST(FormFactorsCli, BackendsNotBuiltYetAreExitTwo) {
+    for (const char* backend : {"vulkan", "cuda", "reference"}) {
+        const RunResult run = runDaisy("formfactors " + kCornellBox + " -o /tmp/unused.mtx " +
+                                       "--quiet --backend " + backend);
+        EXPECT_EQ(run.status, 2) << run.output;
+        EXPECT_NE(run.output.find(std::string("backend '") + backend + "' is not built yet"),
+                  std::string::npos)
+            << run.output;
+    }
+}
+
+// An unwritable output is a failure (exit 1) naming the path, with no partial file.
+TEST(FormFactorsCli, UnwritableOutputFailsCleanly) {
+    const auto dir = test::testTempDir();
+    const std::string path = (dir / "missing_dir" / "F.mtx").string();
+    const RunResult run = runDaisy("formfactors " + kCornellBox + " -o " + path + " --quiet");
+    EXPECT_EQ(run.status, 1) << run.output;
+    EXPECT_NE(run.output.find(path), std::string::npos) << run.output;
+    EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+}  // namespace
+}  // namespace daisy

@@ -1,0 +1,153 @@
+// Micro-benchmarks of the view-factor build (Google Benchmark; not in ctest): the shared
+// per-pair kernels, the sample generator, and Embree occlusion rays in each packet mode on the
+// benchmark scene assets/scenes/blacklight_box.gltf. Run:
+//   cmake --build build --target daisy_microbench && build/daisy_microbench
+// Results and the commands are recorded in docs/performance.md.
+#include <benchmark/benchmark.h>
+
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "backend/embree_ray_caster.h"
+#include "geometry/patch_mesh.h"
+#include "radiosity/visibility_samples.h"
+#include "scene/load_scene.h"
+#include "shared/formfactor.h"
+#include "shared/sampling.h"
+
+namespace daisy {
+namespace {
+
+using shared::PatchGeometry;
+using shared::vec3;
+
+struct BenchScene {
+    PatchMesh mesh;
+    std::vector<PatchGeometry> geometry;
+    std::vector<std::pair<uint32_t, uint32_t>> facingPairs;  // a fixed-seed sample
+};
+
+const BenchScene& benchScene() {
+    static const std::unique_ptr<BenchScene> scene = [] {
+        // The scene relative to this source file: tests/bench/ -> assets/scenes/.
+        const std::string source = __FILE__;
+        const std::string root = source.substr(0, source.rfind("/tests/bench/"));
+        auto loaded = loadScene(root + "/assets/scenes/blacklight_box.gltf");
+        if (!loaded) std::abort();
+        auto result = std::make_unique<BenchScene>();
+        result->mesh = std::move(*buildPatchMesh(loaded->mesh, 0));
+        const PatchMesh& mesh = result->mesh;
+        for (std::size_t p = 0; p < mesh.patchCount(); ++p) {
+            const auto corner = [&](int k) {
+                const Vec3d& v = mesh.positions[mesh.patches[p][k]];
+                return vec3(float(v.x), float(v.y), float(v.z));
+            };
+            result->geometry.push_back(shared::makePatchGeometry(corner(0), corner(1), corner(2)));
+        }
+        std::mt19937 rng(7);
+        std::uniform_int_distribution<uint32_t> pick(0, uint32_t(mesh.patchCount() - 1));
+        while (result->facingPairs.size() < 4096) {
+            const uint32_t i = pick(rng), j = pick(rng);
+            if (i != j && !shared::facingAway(result->geometry[i], result->geometry[j])) {
+                result->facingPairs.push_back({i, j});
+            }
+        }
+        return result;
+    }();
+    return *scene;
+}
+
+void BM_FacingAway(benchmark::State& state) {
+    const BenchScene& s = benchScene();
+    std::size_t k = 0;
+    for (auto _ : state) {
+        const auto& [i, j] = s.facingPairs[k++ & 4095];
+        benchmark::DoNotOptimize(shared::facingAway(s.geometry[i], s.geometry[j ^ 1]));
+    }
+}
+BENCHMARK(BM_FacingAway);
+
+void BM_PairFactors(benchmark::State& state) {
+    const BenchScene& s = benchScene();
+    const int method = static_cast<int>(state.range(0));
+    const int level = static_cast<int>(state.range(1));
+    std::size_t k = 0;
+    for (auto _ : state) {
+        const auto& [i, j] = s.facingPairs[k++ & 4095];
+        benchmark::DoNotOptimize(shared::pairFactors(method, level, s.geometry[i], s.geometry[j]));
+    }
+}
+BENCHMARK(BM_PairFactors)
+    ->ArgNames({"method", "L"})
+    ->Args({DAISY_METHOD_RIEMANN, 1})
+    ->Args({DAISY_METHOD_RIEMANN, 2})
+    ->Args({DAISY_METHOD_NUSSELT, 0})
+    ->Args({DAISY_METHOD_HYBRID, 0})
+    ->Args({DAISY_METHOD_HYBRID, 1})
+    ->Args({DAISY_METHOD_HYBRID, 2});
+
+// The driver's batched form: all 16 trimmed segments of a pair at once (per segment).
+void BM_ShadowSegments16(benchmark::State& state) {
+    const BenchScene& s = benchScene();
+    std::size_t k = 0;
+    SegmentArrays segments;
+    segments.resize(16);
+    for (auto _ : state) {
+        const auto& [i, j] = s.facingPairs[k++ & 4095];
+        shadowSegments(shared::pairSeed(i, j, 1u), 16, s.geometry[i], s.geometry[j], 1e-5f,
+                       segments, 0);
+        benchmark::DoNotOptimize(segments.x0.data());
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * 16);
+}
+BENCHMARK(BM_ShadowSegments16);
+
+void BM_VisibilitySamplePair(benchmark::State& state) {
+    const BenchScene& s = benchScene();
+    std::size_t k = 0;
+    for (auto _ : state) {
+        const auto& [i, j] = s.facingPairs[(k >> 4) & 4095];
+        vec3 pi, pj;
+        shared::visibilitySamplePair(shared::pairSeed(i, j, 1u), int(k & 15), 16, s.geometry[i],
+                                     s.geometry[j], pi, pj);
+        benchmark::DoNotOptimize(pi);
+        benchmark::DoNotOptimize(pj);
+        ++k;
+    }
+}
+BENCHMARK(BM_VisibilitySamplePair);
+
+// Occlusion segments of 16 samples for each of 4096 random facing pairs (more of them blocked
+// than in the driver, which traces only pairs shaft culling could not settle), per packet mode.
+void BM_EmbreeOccluded(benchmark::State& state) {
+    const BenchScene& s = benchScene();
+    const auto mode = static_cast<PacketMode>(state.range(0));
+    static std::unique_ptr<EmbreeRayCaster> caster =
+        std::move(EmbreeRayCaster::create(s.mesh).value());
+    caster->setPacketMode(mode);
+    SegmentArrays segments;
+    segments.resize(s.facingPairs.size() * 16);
+    for (std::size_t p = 0; p < s.facingPairs.size(); ++p) {
+        const auto& [i, j] = s.facingPairs[p];
+        shadowSegments(shared::pairSeed(i, j, 1u), 16, s.geometry[i], s.geometry[j], 1e-5f,
+                       segments, 16 * p);
+    }
+    std::vector<uint8_t> blocked(segments.size());
+    for (auto _ : state) {
+        caster->occluded(segments, blocked);
+        benchmark::DoNotOptimize(blocked.data());
+    }
+    state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(segments.size()));
+    state.SetLabel(packetModeName(mode));
+}
+BENCHMARK(BM_EmbreeOccluded)
+    ->Arg(int(PacketMode::Single))
+    ->Arg(int(PacketMode::Packet4))
+    ->Arg(int(PacketMode::Packet8))
+    ->Arg(int(PacketMode::Packet16))
+    ->Arg(int(PacketMode::Stream))
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace daisy

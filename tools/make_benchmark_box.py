@@ -1,0 +1,225 @@
+#!/usr/bin/env python3
+"""Generates assets/scenes/blacklight_box.gltf: the view-factor benchmark scene.
+
+A closed Cornell-style room (red left wall, green right wall, white elsewhere) lit by two UV
+"black light" tubes on the ceiling (emission preset `blacklight`), with occluders (a tall and a
+short rotated block, a bench, a table on four legs, a shelf on the back wall) and eight poster
+panels:
+each fluorescent material (presets brightener, fluorescein, rhodamine6g, neon) hangs next to a
+non-fluorescent twin of the same RGB colour, so renders show what fluorescence adds. 7,712
+triangles, the size of the original DaisyRiot renderer's benchmark scene (docs/performance.md).
+
+Every surface is an axis-aligned or y-rotated box face meshed as a regular grid, row by row;
+vertices come from per-axis coordinate tables, so shared edges are bitwise equal. Room faces are wound so
+their normals point into the room; object faces so theirs point out of the object. Faces that
+lie against another surface (the bottoms of blocks and legs, the backs of panels, shelf and
+lamps) are left out: they could never exchange light. Units: metres.
+
+Usage: make_benchmark_box.py [--check]   (--check: exit 1 if the committed file differs)
+"""
+import base64
+import json
+import math
+import struct
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+TARGET = ROOT / "assets" / "scenes" / "blacklight_box.gltf"
+EXTENSION = "DAISY_materials_spectral"
+TRIANGLES = 7712  # the original renderer's benchmark scene
+
+W, H, D = 5.0, 3.0, 5.0  # room: x in [0, W], y (up) in [0, H], z in [0, D]
+
+
+def material(name, rgb, fluorescence=None, emission=None, emissive_rgb=None):
+    m = {"name": name,
+         "pbrMetallicRoughness": {"baseColorFactor": list(rgb) + [1.0], "metallicFactor": 0.0,
+                                  "roughnessFactor": 1.0}}
+    ext = {}
+    if fluorescence:
+        ext["fluorescence"] = {"preset": fluorescence}
+    if emission:
+        ext["emission"] = emission
+        m["emissiveFactor"] = list(emissive_rgb)
+    if ext:
+        m["extensions"] = {EXTENSION: ext}
+    return m
+
+
+MATERIALS = [
+    material("white", [0.75, 0.75, 0.75]),
+    material("red", [0.63, 0.065, 0.05]),
+    material("green", [0.14, 0.45, 0.09]),
+    material("grey_block", [0.6, 0.6, 0.6]),
+    material("wood", [0.45, 0.3, 0.18]),
+    material("blacklight", [0.05, 0.05, 0.05],
+             emission={"preset": "blacklight", "scale": 20}, emissive_rgb=[0.3, 0.0, 0.5]),
+    material("poster_brightener", [0.85, 0.85, 0.85], fluorescence="brightener"),
+    material("poster_white", [0.85, 0.85, 0.85]),
+    material("poster_fluorescein", [0.35, 0.75, 0.25], fluorescence="fluorescein"),
+    material("poster_green", [0.35, 0.75, 0.25]),
+    material("poster_rhodamine", [0.9, 0.35, 0.45], fluorescence="rhodamine6g"),
+    material("poster_pink", [0.9, 0.35, 0.45]),
+    material("poster_neon", [0.8, 0.9, 0.2], fluorescence="neon"),
+    material("poster_yellow", [0.8, 0.9, 0.2]),
+]
+MATERIAL_INDEX = {m["name"]: k for k, m in enumerate(MATERIALS)}
+
+# Face names: the axis and side of the box face, e.g. "-y" is the bottom.
+FACES = ["-x", "+x", "-y", "+y", "-z", "+z"]
+
+
+def box(name, centre, size, divisions, mat, faces=FACES, inward=False, yaw_deg=0.0):
+    """Triangles of the chosen faces of a box, in face order, each face row by row.
+
+    centre, size: (x, y, z); divisions: grid cells per axis; yaw_deg: rotation about +y.
+    Returns (name, material, [(p0, p1, p2), ...]).
+    """
+    coords = [[-0.5 * size[a] + size[a] * k / divisions[a] for k in range(divisions[a] + 1)]
+              for a in range(3)]
+    yaw = math.radians(yaw_deg)
+    cos_y, sin_y = math.cos(yaw), math.sin(yaw)
+
+    def world(local):
+        x, y, z = local
+        return (centre[0] + cos_y * x + sin_y * z, centre[1] + y, centre[2] - sin_y * x + cos_y * z)
+
+    triangles = []
+    for face in faces:
+        axis = "xyz".index(face[1])
+        side = 0 if face[0] == "-" else divisions[axis]
+        u_axis, v_axis = (axis + 1) % 3, (axis + 2) % 3
+        # cross(e_u, e_v) = +e_axis; the face's outward normal is sign(face) e_axis.
+        outward_sign = 1 if face[0] == "+" else -1
+        want_plus_axis = (outward_sign > 0) != inward
+        for j in range(divisions[v_axis]):
+            for i in range(divisions[u_axis]):
+                def corner(di, dj):
+                    local = [0.0, 0.0, 0.0]
+                    local[axis] = coords[axis][side]
+                    local[u_axis] = coords[u_axis][i + di]
+                    local[v_axis] = coords[v_axis][j + dj]
+                    return world(local)
+                p00, p10, p11, p01 = corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)
+                if want_plus_axis:
+                    triangles += [(p00, p10, p11), (p00, p11, p01)]
+                else:
+                    triangles += [(p00, p11, p10), (p00, p01, p11)]
+    return name, mat, triangles
+
+
+def objects():
+    out = []
+    # The room: walls face inwards. Left (x = 0) red, right (x = W) green.
+    room = dict(centre=(W / 2, H / 2, D / 2), size=(W, H, D), divisions=(26, 15, 26),
+                inward=True)
+    out.append(box("floor", mat="white", faces=["-y"], **room))
+    out.append(box("ceiling", mat="white", faces=["+y"], **room))
+    out.append(box("back_wall", mat="white", faces=["-z"], **room))
+    out.append(box("front_wall", mat="white", faces=["+z"], **room))
+    out.append(box("left_wall", mat="red", faces=["-x"], **room))
+    out.append(box("right_wall", mat="green", faces=["+x"], **room))
+    # Occluders standing on the floor (no bottom faces).
+    up = ["-x", "+x", "+y", "-z", "+z"]
+    out.append(box("tall_block", (1.45, 1.0, 1.7), (1.0, 2.0, 1.0), (4, 8, 4), "grey_block",
+                   faces=up, yaw_deg=20.0))
+    out.append(box("short_block", (3.5, 0.5, 2.0), (1.2, 1.0, 1.2), (5, 4, 5), "grey_block",
+                   faces=up, yaw_deg=-18.0))
+    out.append(box("bench", (0.7, 0.225, 3.75), (0.5, 0.45, 1.5), (3, 3, 15), "wood", faces=up))
+    out.append(box("table_top", (2.4, 0.78, 3.6), (1.8, 0.06, 1.0), (9, 1, 5), "wood"))
+    sides = ["-x", "+x", "-z", "+z"]
+    for k, (dx, dz) in enumerate([(-0.8, -0.42), (0.8, -0.42), (-0.8, 0.42), (0.8, 0.42)]):
+        out.append(box(f"table_leg_{k}", (2.4 + dx, 0.375, 3.6 + dz), (0.08, 0.75, 0.08),
+                       (1, 4, 1), "wood", faces=sides))
+    out.append(box("shelf", (2.5, 1.9, 0.175), (2.4, 0.05, 0.35), (12, 1, 2), "wood",
+                   faces=["-x", "+x", "-y", "+y", "+z"]))
+    # Black lights against the ceiling (no top faces).
+    for k, x in enumerate([1.6, 3.4]):
+        out.append(box(f"blacklight_{k}", (x, H - 0.04, 2.5), (0.12, 0.08, 1.4), (1, 1, 14),
+                       "blacklight", faces=["-x", "+x", "-y", "-z", "+z"]))
+    # Poster panels 2 cm thick against the side walls (no back faces), fluorescent ones next to
+    # their non-fluorescent twins.
+    pairs = [("poster_brightener", "poster_white"), ("poster_fluorescein", "poster_green"),
+             ("poster_rhodamine", "poster_pink"), ("poster_neon", "poster_yellow")]
+    for k, (fluorescent, twin) in enumerate(pairs):
+        wall_x, facing = (0.01, "+x") if k < 2 else (W - 0.01, "-x")
+        z0 = 1.2 if k % 2 == 0 else 3.0
+        for m, (mat, dz) in enumerate([(fluorescent, 0.0), (twin, 0.75)]):
+            out.append(box(f"panel_{mat}", (wall_x, 1.6, z0 + dz), (0.02, 0.8, 0.6), (1, 4, 3),
+                           mat, faces=[facing, "-y", "+y", "-z", "+z"]))
+    return out
+
+
+def build():
+    blob = bytearray()
+    accessors, buffer_views, meshes, nodes = [], [], [], []
+    total = 0
+    for name, mat, triangles in objects():
+        # Indexed: each distinct corner once per object, in first-use order.
+        index_of, positions, indices = {}, [], []
+        for tri in triangles:
+            for p in tri:
+                key = struct.pack("<3f", *p)
+                if key not in index_of:
+                    index_of[key] = len(positions)
+                    positions.append(struct.unpack("<3f", key))
+                indices.append(index_of[key])
+        total += len(triangles)
+        offset = len(blob)
+        for p in positions:
+            blob += struct.pack("<3f", *p)
+        buffer_views.append({"buffer": 0, "byteOffset": offset, "byteLength": 12 * len(positions),
+                             "target": 34962})
+        accessors.append({"bufferView": len(buffer_views) - 1, "componentType": 5126,
+                          "count": len(positions), "type": "VEC3",
+                          "min": [min(p[a] for p in positions) for a in range(3)],
+                          "max": [max(p[a] for p in positions) for a in range(3)]})
+        position_accessor = len(accessors) - 1
+        offset = len(blob)
+        blob += struct.pack(f"<{len(indices)}I", *indices)
+        buffer_views.append({"buffer": 0, "byteOffset": offset, "byteLength": 4 * len(indices),
+                             "target": 34963})
+        accessors.append({"bufferView": len(buffer_views) - 1, "componentType": 5125,
+                          "count": len(indices), "type": "SCALAR"})
+        meshes.append({"name": name, "primitives": [{
+            "attributes": {"POSITION": position_accessor}, "indices": len(accessors) - 1,
+            "material": MATERIAL_INDEX[mat], "mode": 4}]})
+        nodes.append({"name": name, "mesh": len(meshes) - 1})
+    if total != TRIANGLES:
+        raise SystemExit(f"generated {total} triangles, expected {TRIANGLES}")
+    # glTF cameras look down their local -Z: from near the front wall towards the back wall.
+    nodes.append({"name": "camera", "camera": 0, "translation": [W / 2, 1.5, D - 0.25]})
+    return {
+        "asset": {"version": "2.0", "generator": "DaisyRiot tools/make_benchmark_box.py"},
+        "extensionsUsed": [EXTENSION],
+        "scene": 0,
+        "scenes": [{"name": "blacklight_box", "nodes": list(range(len(nodes)))}],
+        "nodes": nodes,
+        "cameras": [{"name": "front", "type": "perspective", "perspective": {
+            "yfov": 1.0, "aspectRatio": 1.3333333, "znear": 0.01}}],
+        "meshes": meshes,
+        "materials": MATERIALS,
+        "accessors": accessors,
+        "bufferViews": buffer_views,
+        "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64,"
+                     + base64.b64encode(bytes(blob)).decode("ascii")}],
+    }
+
+
+def main():
+    text = json.dumps(build(), indent=1) + "\n"
+    if "--check" in sys.argv[1:]:
+        if not TARGET.exists() or TARGET.read_text() != text:
+            print(f"{TARGET} is out of date: run tools/make_benchmark_box.py", file=sys.stderr)
+            return 1
+        print(f"{TARGET} is up to date")
+        return 0
+    TARGET.parent.mkdir(parents=True, exist_ok=True)
+    TARGET.write_text(text)
+    print(f"wrote {TARGET}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
