@@ -17,16 +17,15 @@ lamps) are left out: they could never exchange light. Units: metres.
 
 Usage: make_benchmark_box.py [--check]   (--check: exit 1 if the committed file differs)
 """
-import base64
-import json
 import math
 import struct
 import sys
 from pathlib import Path
 
+from gltf_writer import EXTENSION, GltfBuilder, write_or_check
+
 ROOT = Path(__file__).resolve().parent.parent
 TARGET = ROOT / "assets" / "scenes" / "blacklight_box.gltf"
-EXTENSION = "DAISY_materials_spectral"
 TRIANGLES = 7712  # the original renderer's benchmark scene
 
 W, H, D = 5.0, 3.0, 5.0  # room: x in [0, W], y (up) in [0, H], z in [0, D]
@@ -152,8 +151,7 @@ def objects():
 
 
 def build():
-    blob = bytearray()
-    accessors, buffer_views, meshes, nodes = [], [], [], []
+    builder = GltfBuilder()
     total = 0
     for name, mat, triangles in objects():
         # Indexed: each distinct corner once per object, in first-use order.
@@ -166,59 +164,19 @@ def build():
                     positions.append(struct.unpack("<3f", key))
                 indices.append(index_of[key])
         total += len(triangles)
-        offset = len(blob)
-        for p in positions:
-            blob += struct.pack("<3f", *p)
-        buffer_views.append({"buffer": 0, "byteOffset": offset, "byteLength": 12 * len(positions),
-                             "target": 34962})
-        accessors.append({"bufferView": len(buffer_views) - 1, "componentType": 5126,
-                          "count": len(positions), "type": "VEC3",
-                          "min": [min(p[a] for p in positions) for a in range(3)],
-                          "max": [max(p[a] for p in positions) for a in range(3)]})
-        position_accessor = len(accessors) - 1
-        offset = len(blob)
-        blob += struct.pack(f"<{len(indices)}I", *indices)
-        buffer_views.append({"buffer": 0, "byteOffset": offset, "byteLength": 4 * len(indices),
-                             "target": 34963})
-        accessors.append({"bufferView": len(buffer_views) - 1, "componentType": 5125,
-                          "count": len(indices), "type": "SCALAR"})
-        meshes.append({"name": name, "primitives": [{
-            "attributes": {"POSITION": position_accessor}, "indices": len(accessors) - 1,
-            "material": MATERIAL_INDEX[mat], "mode": 4}]})
-        nodes.append({"name": name, "mesh": len(meshes) - 1})
+        builder.add_mesh(name, positions, MATERIAL_INDEX[mat], indices)
     if total != TRIANGLES:
         raise SystemExit(f"generated {total} triangles, expected {TRIANGLES}")
     # glTF cameras look down their local -Z: from near the front wall towards the back wall.
-    nodes.append({"name": "camera", "camera": 0, "translation": [W / 2, 1.5, D - 0.25]})
-    return {
-        "asset": {"version": "2.0", "generator": "DaisyRiot tools/make_benchmark_box.py"},
-        "extensionsUsed": [EXTENSION],
-        "scene": 0,
-        "scenes": [{"name": "blacklight_box", "nodes": list(range(len(nodes)))}],
-        "nodes": nodes,
-        "cameras": [{"name": "front", "type": "perspective", "perspective": {
-            "yfov": 1.0, "aspectRatio": 1.3333333, "znear": 0.01}}],
-        "meshes": meshes,
-        "materials": MATERIALS,
-        "accessors": accessors,
-        "bufferViews": buffer_views,
-        "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64,"
-                     + base64.b64encode(bytes(blob)).decode("ascii")}],
-    }
+    builder.add_node({"name": "camera", "camera": 0, "translation": [W / 2, 1.5, D - 0.25]})
+    cameras = [{"name": "front", "type": "perspective", "perspective": {
+        "yfov": 1.0, "aspectRatio": 1.3333333, "znear": 0.01}}]
+    return builder.document("blacklight_box", "DaisyRiot tools/make_benchmark_box.py", MATERIALS,
+                            cameras)
 
 
 def main():
-    text = json.dumps(build(), indent=1) + "\n"
-    if "--check" in sys.argv[1:]:
-        if not TARGET.exists() or TARGET.read_text() != text:
-            print(f"{TARGET} is out of date: run tools/make_benchmark_box.py", file=sys.stderr)
-            return 1
-        print(f"{TARGET} is up to date")
-        return 0
-    TARGET.parent.mkdir(parents=True, exist_ok=True)
-    TARGET.write_text(text)
-    print(f"wrote {TARGET}")
-    return 0
+    return write_or_check(TARGET, build(), "tools/make_benchmark_box.py")
 
 
 if __name__ == "__main__":

@@ -10,17 +10,16 @@ The RGB fallback colours (for viewers without the extension) are band means of t
 
 Usage: make_cornell_box.py [--check]   (--check: exit 1 if the committed file differs)
 """
-import base64
-import math
 import json
-import struct
+import math
 import sys
 from pathlib import Path
+
+from gltf_writer import EXTENSION, GltfBuilder, write_or_check
 
 ROOT = Path(__file__).resolve().parent.parent
 SOURCE = ROOT / "assets" / "reference" / "cornell_box.json"
 TARGET = ROOT / "assets" / "scenes" / "cornell_box.gltf"
-EXTENSION = "DAISY_materials_spectral"
 MM = 0.001
 
 
@@ -88,8 +87,7 @@ def build():
                 "scale": 1.0}
         materials.append(material)
 
-    blob = bytearray()
-    accessors, buffer_views, meshes, nodes = [], [], [], []
+    builder = GltfBuilder()
     for surface in surfaces:
         prefix = next((p for p in block_centres if surface["name"].startswith(p)), None)
         if prefix is None:
@@ -98,59 +96,24 @@ def build():
             quad = oriented_quad(surface["quad"], block_centres[prefix], outward=True)
         corners = [[c * MM for c in p] for p in quad]
         positions = [corners[0], corners[1], corners[2], corners[0], corners[2], corners[3]]
-        offset = len(blob)
-        for p in positions:
-            blob += struct.pack("<3f", *p)
-        buffer_views.append({"buffer": 0, "byteOffset": offset, "byteLength": 72})
-        accessors.append({
-            "bufferView": len(buffer_views) - 1, "componentType": 5126, "count": 6,
-            "type": "VEC3",
-            "min": [min(p[i] for p in positions) for i in range(3)],
-            "max": [max(p[i] for p in positions) for i in range(3)]})
-        material = material_names.index(surface["material"])
-        meshes.append({"name": surface["name"], "primitives": [
-            {"attributes": {"POSITION": len(accessors) - 1}, "material": material, "mode": 4}]})
-        nodes.append({"name": surface["name"], "mesh": len(meshes) - 1})
+        builder.add_mesh(surface["name"], positions, material_names.index(surface["material"]))
 
     camera = data["camera"]
     film_height = camera["film_size_m"][1]
-
     yfov = 2 * math.atan(0.5 * film_height / camera["focal_length_m"])
     # glTF cameras look down their local -Z; the measured camera looks along +Z: turn 180 deg
     # about +Y (quaternion x, y, z, w).
-    nodes.append({"name": "camera", "camera": 0,
-                  "translation": [c * MM for c in camera["position"]],
-                  "rotation": [0.0, 1.0, 0.0, 0.0]})
-
-    return {
-        "asset": {"version": "2.0", "generator": "DaisyRiot tools/make_cornell_box.py"},
-        "extensionsUsed": [EXTENSION],
-        "scene": 0,
-        "scenes": [{"name": "cornell_box", "nodes": list(range(len(nodes)))}],
-        "nodes": nodes,
-        "cameras": [{"name": "measured", "type": "perspective", "perspective": {
-            "yfov": round(yfov, 9), "aspectRatio": 1.0, "znear": 0.01}}],
-        "meshes": meshes,
-        "materials": materials,
-        "accessors": accessors,
-        "bufferViews": buffer_views,
-        "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64,"
-                     + base64.b64encode(bytes(blob)).decode("ascii")}],
-    }
+    builder.add_node({"name": "camera", "camera": 0,
+                      "translation": [c * MM for c in camera["position"]],
+                      "rotation": [0.0, 1.0, 0.0, 0.0]})
+    cameras = [{"name": "measured", "type": "perspective", "perspective": {
+        "yfov": round(yfov, 9), "aspectRatio": 1.0, "znear": 0.01}}]
+    return builder.document("cornell_box", "DaisyRiot tools/make_cornell_box.py", materials,
+                            cameras)
 
 
 def main():
-    text = json.dumps(build(), indent=1) + "\n"
-    if "--check" in sys.argv[1:]:
-        if not TARGET.exists() or TARGET.read_text() != text:
-            print(f"{TARGET} is out of date: run tools/make_cornell_box.py", file=sys.stderr)
-            return 1
-        print(f"{TARGET} is up to date")
-        return 0
-    TARGET.parent.mkdir(parents=True, exist_ok=True)
-    TARGET.write_text(text)
-    print(f"wrote {TARGET}")
-    return 0
+    return write_or_check(TARGET, build(), "tools/make_cornell_box.py")
 
 
 if __name__ == "__main__":

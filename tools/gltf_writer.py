@@ -1,0 +1,85 @@
+"""Shared by the scene generators in tools/: builds a glTF 2.0 document with one embedded
+buffer (base64 data URI) and writes it, or checks that the committed file is up to date.
+
+    builder = GltfBuilder()
+    builder.add_mesh("floor", positions, material=0)             # non-indexed triangles
+    builder.add_mesh("box", positions, material=1, indices=[...])  # indexed (uint32)
+    builder.add_node({"name": "camera", "camera": 0, "translation": [...]})
+    document = builder.document("scene", "DaisyRiot tools/make_x.py", materials, cameras)
+    sys.exit(write_or_check(TARGET, document, "tools/make_x.py"))
+"""
+import base64
+import json
+import struct
+import sys
+
+EXTENSION = "DAISY_materials_spectral"
+ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER = 34962, 34963
+FLOAT, UNSIGNED_INT = 5126, 5125
+
+
+class GltfBuilder:
+    def __init__(self):
+        self.blob = bytearray()
+        self.accessors, self.buffer_views, self.meshes, self.nodes = [], [], [], []
+
+    def _view(self, data, target):
+        self.buffer_views.append({"buffer": 0, "byteOffset": len(self.blob),
+                                  "byteLength": len(data), "target": target})
+        self.blob += data
+        return len(self.buffer_views) - 1
+
+    def add_mesh(self, name, positions, material, indices=None):
+        """One mesh of TRIANGLES (3 positions a triangle, or 3 indices a triangle) and a node."""
+        data = b"".join(struct.pack("<3f", *p) for p in positions)
+        self.accessors.append({
+            "bufferView": self._view(data, ARRAY_BUFFER), "componentType": FLOAT,
+            "count": len(positions), "type": "VEC3",
+            "min": [min(p[a] for p in positions) for a in range(3)],
+            "max": [max(p[a] for p in positions) for a in range(3)]})
+        primitive = {"attributes": {"POSITION": len(self.accessors) - 1}}
+        if indices is not None:
+            data = struct.pack(f"<{len(indices)}I", *indices)
+            self.accessors.append({"bufferView": self._view(data, ELEMENT_ARRAY_BUFFER),
+                                   "componentType": UNSIGNED_INT, "count": len(indices),
+                                   "type": "SCALAR"})
+            primitive["indices"] = len(self.accessors) - 1
+        primitive.update({"material": material, "mode": 4})
+        self.meshes.append({"name": name, "primitives": [primitive]})
+        self.add_node({"name": name, "mesh": len(self.meshes) - 1})
+
+    def add_node(self, node):
+        self.nodes.append(node)
+
+    def document(self, scene_name, generator, materials, cameras):
+        return {
+            "asset": {"version": "2.0", "generator": generator},
+            "extensionsUsed": [EXTENSION],
+            "scene": 0,
+            "scenes": [{"name": scene_name, "nodes": list(range(len(self.nodes)))}],
+            "nodes": self.nodes,
+            "cameras": cameras,
+            "meshes": self.meshes,
+            "materials": materials,
+            "accessors": self.accessors,
+            "bufferViews": self.buffer_views,
+            "buffers": [{"byteLength": len(self.blob),
+                         "uri": "data:application/octet-stream;base64,"
+                         + base64.b64encode(bytes(self.blob)).decode("ascii")}],
+        }
+
+
+def write_or_check(target, document, generator):
+    """Writes `document` to `target`; with --check on the command line, only compares. Returns
+    the process exit status."""
+    text = json.dumps(document, indent=1) + "\n"
+    if "--check" in sys.argv[1:]:
+        if not target.exists() or target.read_text() != text:
+            print(f"{target} is out of date: run {generator}", file=sys.stderr)
+            return 1
+        print(f"{target} is up to date")
+        return 0
+    target.parent.mkdir(parents=True, exist_ok=True)
+    target.write_text(text)
+    print(f"wrote {target}")
+    return 0
