@@ -1,7 +1,10 @@
 #pragma once
 // Helpers shared by the tests: a fresh temporary directory per test and small file writers.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
+#include <array>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -28,6 +31,28 @@ inline std::string writeFile(const std::filesystem::path& dir, const std::string
     std::ofstream out(path, std::ios::binary);
     out << contents;
     return path.string();
+}
+
+struct RunResult {
+    int status = -1;
+    std::string output;  // stdout and stderr, interleaved
+};
+
+// Runs the built `daisy` executable with `arguments` (shell words) and returns its exit status
+// and output.
+inline RunResult runDaisy(const std::string& arguments) {
+    RunResult result;
+    const std::string command = std::string(DAISY_EXE_PATH) + " " + arguments + " 2>&1";
+    FILE* pipe = popen(command.c_str(), "r");
+    if (!pipe) return result;
+    std::array<char, 4096> buffer;
+    std::size_t count;
+    while ((count = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) {
+        result.output.append(buffer.data(), count);
+    }
+    const int raw = pclose(pipe);
+    result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    return result;
 }
 
 inline std::string testDataPath(const std::string& relative) {

@@ -1,7 +1,6 @@
 // `daisy formfactors` end to end (DESIGN.md section 9): the files it writes, the memory refusal
 // and the backend registry, through the real executable.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
@@ -17,24 +16,8 @@
 namespace daisy {
 namespace {
 
-struct RunResult {
-    int status = -1;
-    std::string output;  // stdout and stderr
-};
-
-RunResult runDaisy(const std::string& arguments) {
-    RunResult result;
-    const std::string command = std::string(DAISY_EXE_PATH) + " " + arguments + " 2>&1";
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return result;
-    std::array<char, 4096> buffer;
-    std::size_t count;
-    while ((count = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
-        result.output.append(buffer.data(), count);
-    const int raw = pclose(pipe);
-    result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    return result;
-}
+using test::runDaisy;
+using test::RunResult;
 
 const std::string kCornellBox = std::string(DAISY_ASSETS_DIR) + "/scenes/cornell_box.gltf";
 
