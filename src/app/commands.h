@@ -10,6 +10,9 @@ int runInfo(const CommonOptions& options);
 // `daisy formfactors SCENE -o F.mtx [--patches-out patches.csv]`.
 int runFormFactors(const CommonOptions& options, const ExportOptions& exports);
 
+// `daisy solve SCENE [--patches-out patches.csv]`: spectral radiosity with fluorescence.
+int runSolve(const CommonOptions& options, const ExportOptions& exports);
+
 // For subcommands whose stage has not landed: says so on stderr and returns 2.
 int notBuiltYet(const char* command, const char* stage);
 

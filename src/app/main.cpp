@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
         return 2;
     }
     if (*renderCmd) return notBuiltYet("render", "the image renderer");
-    if (*solveCmd) return notBuiltYet("solve", "the radiosity solver");
+    if (*solveCmd) return runSolve(common, exports);
     if (*viewCmd) return notBuiltYet("view", "the viewer");
     if (*validateCmd) return notBuiltYet("validate", "the GPU backends");
     if (*benchCmd) return notBuiltYet("bench", "the benchmark driver");

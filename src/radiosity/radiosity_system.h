@@ -1,0 +1,64 @@
+#pragma once
+// The data of the radiosity equation (DESIGN.md sections 2, 5 and 6) apart from F:
+//     B_i[o] = E_i[o] + sum_k M_mat(i)[o][k] G_i[k],   G_i = sum_j F_ij B_j,
+// with E per patch (n x m, row-major) and the re-radiation matrix M stored once per distinct
+// material operator, not per patch. Units: E and B are spectral radiant exitance
+// (W m^-2 nm^-1) at the wavelength set's samples; areas in scene units squared.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/expected.h"
+#include "geometry/patch_mesh.h"
+#include "scene/scene.h"
+#include "spectral/fluorescence.h"
+#include "spectral/wavelength_set.h"
+
+namespace daisy {
+
+// One distinct re-radiation matrix and what the solver needs to know about it.
+struct MaterialOperator {
+    ReradiationMatrix matrix;  // m x m, density to density (fluorescence.h)
+    std::vector<double> diagonal;  // M[k][k], the reflectance at each sample
+    bool isDiagonal = true;  // no fluorescence: M = diag(rho), wavelengths independent
+    bool isZero = false;  // rho = 0 everywhere and no fluorescence: B_i = E_i, no gather
+    // max_k of the power column sum c_k (fluorescence.h): energy out per energy in, at worst.
+    double maxPowerGain = 0;
+    std::vector<std::string> materialNames;  // the scene materials sharing this operator
+};
+
+struct RadiositySystem {
+    uint32_t patchCount = 0;
+    std::size_t wavelengthCount = 0;  // m
+    std::vector<double> wavelengthsNm;  // m sample wavelengths
+    std::vector<double> binWidthsNm;  // m weights: power = sum_k value_k * binWidthNm_k
+    std::vector<double> emission;  // E, patchCount x m, row-major
+    std::vector<double> areas;  // per patch
+    std::vector<uint32_t> patchOperator;  // per patch: index into operators
+    std::vector<MaterialOperator> operators;
+
+    bool hasFluorescence() const;  // any operator with off-diagonal entries
+    const double* emissionRow(uint32_t patch) const {
+        return emission.data() + patch * wavelengthCount;
+    }
+};
+
+// Builds the system for `patches` (material indices into scene.materials) on `set`: samples
+// every material's emission (spectral.h bin averages) and its re-radiation matrix, merges
+// materials whose matrices are equal into one operator. Errors name the material (origin).
+Expected<RadiositySystem> buildRadiositySystem(const Scene& scene, const PatchMesh& patches,
+                                               const WavelengthSet& set);
+
+// Fills the derived fields of `op` (diagonal, isDiagonal, isZero, maxPowerGain) from its
+// matrix and the set's bin widths; for systems assembled by hand (tests, benchmarks).
+void finishOperator(MaterialOperator& op, const std::vector<double>& binWidthsNm);
+
+// The two scene facts the `auto` wavelength set depends on (wavelength_set.h): some material
+// emits mostly UV, and some material is fluorescent.
+struct SceneSpectralFacts {
+    bool hasUvLights = false;
+    bool hasFluorescence = false;
+};
+Expected<SceneSpectralFacts> sceneSpectralFacts(const Scene& scene);
+
+}  // namespace daisy
