@@ -5,12 +5,10 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "backend/backend.h"
+#include "app/pipeline.h"
 #include "core/log.h"
 #include "core/progress.h"
 #include "core/strings.h"
-#include "geometry/patch_mesh.h"
-#include "radiosity/matrix_estimate.h"
 #include "radiosity/matrix_market.h"
 #include "radiosity/patch_csv.h"
 
@@ -19,18 +17,6 @@ namespace {
 
 std::string percentOf(uint64_t part, uint64_t whole) {
     return whole == 0 ? "0%" : formatNumber(100.0 * double(part) / double(whole), 3) + "%";
-}
-
-FormFactorSettings settingsFrom(const CommonOptions& options) {
-    FormFactorSettings settings;
-    parseFormFactorMethod(options.method, settings.method);  // CLI11 checked the name
-    settings.quadratureLevel = options.quadratureLevel;
-    settings.raysPerPair = options.raysPerPair;
-    settings.stochasticRays = options.stochasticRays;
-    settings.seed = options.seed;
-    settings.threads = options.threads;
-    settings.maxMemoryBytes = options.maxMemoryBytes;
-    return settings;
 }
 
 void printVerboseStats(const FormFactorStats& s) {
@@ -59,58 +45,34 @@ void printVerboseStats(const FormFactorStats& s) {
 }  // namespace
 
 int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
-    auto scene = loadScene(options.scenePath, options.sceneLoadOptions());
+    auto scene = loadSceneLogged(options);
     if (!scene) {
         logError(scene.error().message);
         return 2;
     }
-    for (const std::string& warning : scene->warnings)
-        logWarning(warning);
-
-    const uint64_t patchLimit = options.maxMemoryBytes / kPatchMeshBytesPerPatch;
-    auto patches = buildPatchMesh(scene->mesh, options.subdivideMaxEdge, patchLimit);
+    auto patches = buildPatchesWithin(options, *scene);
     if (!patches) {
-        logError(concat(options.scenePath, ": ", patches.error().message, " (--max-memory ",
-                        formatBytes(static_cast<double>(options.maxMemoryBytes)), ")"));
+        logError(patches.error().message);
         return 2;
     }
-    const MatrixEstimate estimate = estimateMatrixMemory(*patches);
-    logInfo(concat("view factors: ", formatCount(patches->patchCount()), " patches, ~",
-                   formatCount(estimate.nonzeros), " non-zeros, ~",
-                   formatBytes(static_cast<double>(estimate.matrixBytes)), " as CSR (estimate)"));
-    if (estimate.matrixBytes > options.maxMemoryBytes) {
-        logError(concat(options.scenePath, ": the view-factor matrix needs about ",
-                        formatBytes(static_cast<double>(estimate.matrixBytes)), " for ",
-                        formatCount(patches->patchCount()), " patches, more than --max-memory ",
-                        formatBytes(static_cast<double>(options.maxMemoryBytes)),
-                        "; use a larger --subdivide or raise --max-memory"));
+    auto run = buildFormFactorsFor(options, *patches);
+    if (!run) {
+        logError(run.error().message);
         return 2;
     }
-
-    auto backend = makeBackend(options.backend);
-    if (!backend) {
-        logError(concat("--backend ", options.backend, ": ", backend.error().message));
-        return 2;
-    }
-    const FormFactorSettings settings = settingsFrom(options);
-    auto result = (*backend)->buildFormFactors(*patches, settings);
-    if (!result) {
-        logError(concat(options.scenePath, ": ", result.error().message));
-        return 2;
-    }
-    const FormFactorStats& stats = result->stats;
+    const FormFactorResult& result = run->result;
+    const FormFactorStats& stats = result.stats;
 
     const std::vector<std::string> comments = {
         "DaisyRiot view-factor matrix F: entry (i, j) = F_ij, the fraction of the energy leaving "
         "patch i that arrives at patch j (1-based patch indices; patches.csv lists them 0-based)",
-        concat("scene ", options.scenePath, "; backend ", (*backend)->name(), "; method ",
+        concat("scene ", options.scenePath, "; backend ", run->backendName, "; method ",
                options.method, "; quadrature ", options.quadratureLevel, "; rays ",
                options.raysPerPair,
-               settings.method == FormFactorMethod::Stochastic
-                   ? concat("; stochastic rays ", options.stochasticRays)
-                   : std::string(),
+               options.method == "stochastic" ? concat("; stochastic rays ", options.stochasticRays)
+                                              : std::string(),
                "; subdivide ", options.subdivideMaxEdge, "; seed ", options.seed)};
-    if (auto written = writeMatrixMarket(exports.matrixPath, result->matrix, comments); !written) {
+    if (auto written = writeMatrixMarket(exports.matrixPath, result.matrix, comments); !written) {
         logError(written.error().message);
         return 1;
     }
@@ -124,8 +86,8 @@ int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
         }
     }
     logInfo(concat("view factors: ", formatCount(stats.nonzeros), " non-zeros (",
-                   formatBytes(static_cast<double>(result->matrix.bytes())), ") in ",
-                   formatDuration(stats.totalSeconds), " on ", (*backend)->name(), " (",
+                   formatBytes(static_cast<double>(result.matrix.bytes())), ") in ",
+                   formatDuration(stats.totalSeconds), " on ", run->backendName, " (",
                    options.method, "); pairs skipped without rays: ", formatCount(stats.facingAway),
                    " facing away, ", formatCount(stats.clearClusterShafts + stats.clearPairShafts),
                    " clear shafts, ", formatCount(stats.coveredPairs), " covered; ",

@@ -2,6 +2,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/pipeline.h"
 #include "core/log.h"
 #include "core/strings.h"
 #include "geometry/patch_mesh.h"
@@ -39,21 +40,16 @@ std::string cameraList(const Scene& scene) {
 }  // namespace
 
 int runInfo(const CommonOptions& options) {
-    auto scene = loadScene(options.scenePath, options.sceneLoadOptions());
+    auto scene = loadSceneLogged(options);
     if (!scene) {
         logError(scene.error().message);
         return 2;
     }
-    for (const std::string& warning : scene->warnings)
-        logWarning(warning);
-
     const TriangleMesh& mesh = scene->mesh;
     const uint64_t patchEstimate = estimatePatchCount(mesh, options.subdivideMaxEdge);
-    const uint64_t patchLimit = options.maxMemoryBytes / kPatchMeshBytesPerPatch;
-    auto patches = buildPatchMesh(mesh, options.subdivideMaxEdge, patchLimit);
+    auto patches = buildPatchesWithin(options, *scene);
     if (!patches) {
-        logError(concat(options.scenePath, ": ", patches.error().message, " (--max-memory ",
-                        formatBytes(static_cast<double>(options.maxMemoryBytes)), ")"));
+        logError(patches.error().message);
         return 2;
     }
     const MatrixEstimate matrix = estimateMatrixMemory(*patches);

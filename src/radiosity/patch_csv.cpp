@@ -19,10 +19,10 @@ std::string csvField(const std::string& text) {
     return out + "\"";
 }
 
-// Shortest text that reads back as the same double.
+// Shortest text that reads back as the same double; -0 is written as 0.
 void appendNumber(std::string& line, double value) {
     char buffer[32];
-    line.append(buffer, std::to_chars(buffer, buffer + sizeof buffer, value).ptr);
+    line.append(buffer, std::to_chars(buffer, buffer + sizeof buffer, value + 0.0).ptr);
 }
 
 }  // namespace
