@@ -55,6 +55,11 @@ inline RunResult runDaisy(const std::string& arguments) {
     return result;
 }
 
+// A committed asset, e.g. assetPath("scenes/cornell_box.gltf").
+inline std::string assetPath(const std::string& relative) {
+    return std::string(DAISY_ASSETS_DIR) + "/" + relative;
+}
+
 inline std::string testDataPath(const std::string& relative) {
     return std::string(DAISY_TEST_DATA_DIR) + "/" + relative;
 }

@@ -93,10 +93,7 @@ int main(int argc, char** argv) {
         return 2;
     }
 
-    if (std::string message = finishCommonOptions(common); !message.empty()) {
-        daisy::logError(message);
-        return 2;
-    }
+    finishCommonOptions(common);
     daisy::setVerbosity(common.quiet         ? daisy::Verbosity::Quiet
                             : common.verbose ? daisy::Verbosity::Verbose
                                              : daisy::Verbosity::Normal);

@@ -93,14 +93,14 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
         ->check(CLI::ExistingFile);
 }
 
-std::string finishCommonOptions(CommonOptions& options) {
+void finishCommonOptions(CommonOptions& options) {
     options.wavelengthSpec = *parseWavelengthSpec(options.wavelengths);
     if (options.maxMemoryText.empty()) {
-        options.maxMemoryBytes = physicalMemoryBytes() / 10 * 8;
+        const uint64_t physical = physicalMemoryBytes();
+        options.maxMemoryBytes = physical > 0 ? physical / 10 * 8 : UINT64_MAX;  // 0: unknown
     } else {
         parseByteSize(options.maxMemoryText, options.maxMemoryBytes);
     }
-    return {};
 }
 
 uint64_t physicalMemoryBytes() {

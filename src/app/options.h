@@ -69,9 +69,8 @@ struct BenchOptions {
 // Adds the scene argument and the common options to a subcommand.
 void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequired = true);
 
-// Cross-option checks CLI11 cannot express; returns an error message or empty. Fills the
-// parsed fields (wavelengthSpec, maxMemoryBytes).
-std::string finishCommonOptions(CommonOptions& options);
+// Fills the fields parsed from already-validated text (wavelengthSpec, maxMemoryBytes).
+void finishCommonOptions(CommonOptions& options);
 
 // Physical memory of this machine in bytes (0 when unknown).
 uint64_t physicalMemoryBytes();

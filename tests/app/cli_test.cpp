@@ -15,7 +15,7 @@ using test::runDaisy;
 using test::RunResult;
 
 std::string cornellBox() {
-    return std::string(DAISY_ASSETS_DIR) + "/scenes/cornell_box.gltf";
+    return test::assetPath("scenes/cornell_box.gltf");
 }
 
 int lineCount(const std::string& text) {

@@ -19,7 +19,7 @@ namespace {
 using test::runDaisy;
 using test::RunResult;
 
-const std::string kCornellBox = std::string(DAISY_ASSETS_DIR) + "/scenes/cornell_box.gltf";
+const std::string kCornellBox = test::assetPath("scenes/cornell_box.gltf");
 
 std::string readText(const std::filesystem::path& path) {
     std::ifstream in(path);

@@ -116,7 +116,7 @@ TEST(LoadScene, RefusesMissingFilesAndUnknownFormats) {
 // The committed measured Cornell box (tools/make_cornell_box.py): 16 quads as 32 triangles,
 // in metres, inside the measured extent 556.0 x 548.8 x 559.2 mm.
 TEST(LoadScene, MeasuredCornellBox) {
-    auto scene = loadScene(std::string(DAISY_ASSETS_DIR) + "/scenes/cornell_box.gltf");
+    auto scene = loadScene(test::assetPath("scenes/cornell_box.gltf"));
     ASSERT_TRUE(scene) << scene.error().message;
     EXPECT_EQ(scene->mesh.triangleCount(), 32u);
     EXPECT_EQ(scene->degenerateDropped, 0u);
