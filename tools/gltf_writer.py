@@ -11,7 +11,8 @@ buffer (base64 data URI) and writes it, or checks that the committed file is up 
 import base64
 import json
 import struct
-import sys
+
+import generated
 
 EXTENSION = "DAISY_materials_spectral"
 ARRAY_BUFFER, ELEMENT_ARRAY_BUFFER = 34962, 34963
@@ -70,16 +71,5 @@ class GltfBuilder:
 
 
 def write_or_check(target, document, generator):
-    """Writes `document` to `target`; with --check on the command line, only compares. Returns
-    the process exit status."""
-    text = json.dumps(document, indent=1) + "\n"
-    if "--check" in sys.argv[1:]:
-        if not target.exists() or target.read_text() != text:
-            print(f"{target} is out of date: run {generator}", file=sys.stderr)
-            return 1
-        print(f"{target} is up to date")
-        return 0
-    target.parent.mkdir(parents=True, exist_ok=True)
-    target.write_text(text)
-    print(f"wrote {target}")
-    return 0
+    """Writes `document` as JSON to `target`, or compares under --check (tools/generated.py)."""
+    return generated.write_or_check(target, json.dumps(document, indent=1) + "\n", generator)

@@ -13,6 +13,8 @@ import csv
 import sys
 from pathlib import Path
 
+from generated import write_or_check
+
 ROOT = Path(__file__).resolve().parent.parent
 CMF_SOURCE = ROOT / "assets" / "reference" / "cie1931_2deg_cmf_1nm.csv"
 ILLUMINANT_SOURCE = ROOT / "assets" / "reference" / "cie_illuminants.csv"
@@ -115,16 +117,7 @@ def build():
 
 
 def main():
-    text = build()
-    if "--check" in sys.argv[1:]:
-        if not TARGET.exists() or TARGET.read_text() != text:
-            print(f"{TARGET} is out of date: run tools/make_cie_tables.py", file=sys.stderr)
-            return 1
-        print(f"{TARGET} is up to date")
-        return 0
-    TARGET.write_text(text)
-    print(f"wrote {TARGET}")
-    return 0
+    return write_or_check(TARGET, build(), "tools/make_cie_tables.py")
 
 
 if __name__ == "__main__":
