@@ -13,6 +13,13 @@ int runFormFactors(const CommonOptions& options, const ExportOptions& exports);
 // `daisy solve SCENE [--patches-out patches.csv]`: spectral radiosity with fluorescence.
 int runSolve(const CommonOptions& options, const ExportOptions& exports);
 
+// `daisy render SCENE -o out.png|.exr|.pfm`: the whole pipeline, then a ray-cast image (issue 6).
+int runRender(const CommonOptions& options, const RenderOptions& render);
+
+// `daisy validate SCENE --backend vulkan|cuda --against reference`: entry-by-entry comparison
+// of two backends' matrices; 1 when over tolerance.
+int runValidate(const CommonOptions& options, const ValidateOptions& validate);
+
 // For subcommands whose stage has not landed: says so on stderr and returns 2.
 int notBuiltYet(const char* command, const char* stage);
 

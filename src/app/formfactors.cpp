@@ -50,7 +50,7 @@ int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
         logError(scene.error().message);
         return 2;
     }
-    auto patches = buildPatchesWithin(options, *scene);
+    auto patches = buildPatchesWithin(options, *scene, options.subdivideMaxEdge.value_or(0));
     if (!patches) {
         logError(patches.error().message);
         return 2;
@@ -71,7 +71,7 @@ int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
                options.raysPerPair,
                options.method == "stochastic" ? concat("; stochastic rays ", options.stochasticRays)
                                               : std::string(),
-               "; subdivide ", options.subdivideMaxEdge, "; seed ", options.seed)};
+               "; subdivide ", options.subdivideMaxEdge.value_or(0), "; seed ", options.seed)};
     if (auto written = writeMatrixMarket(exports.matrixPath, result.matrix, comments); !written) {
         logError(written.error().message);
         return 1;

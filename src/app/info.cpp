@@ -46,8 +46,8 @@ int runInfo(const CommonOptions& options) {
         return 2;
     }
     const TriangleMesh& mesh = scene->mesh;
-    const uint64_t patchEstimate = estimatePatchCount(mesh, options.subdivideMaxEdge);
-    auto patches = buildPatchesWithin(options, *scene);
+    const uint64_t patchEstimate = estimatePatchCount(mesh, options.subdivideMaxEdge.value_or(0));
+    auto patches = buildPatchesWithin(options, *scene, options.subdivideMaxEdge.value_or(0));
     if (!patches) {
         logError(patches.error().message);
         return 2;
@@ -68,9 +68,9 @@ int runInfo(const CommonOptions& options) {
                         ? concat(" (", scene->degenerateDropped, " degenerate dropped)")
                         : std::string()));
     printRow("patches",
-             options.subdivideMaxEdge > 0
+             options.subdivideMaxEdge.value_or(0) > 0
                  ? concat(formatCount(patches->patchCount()), " (subdivided to edges <= ",
-                          options.subdivideMaxEdge, "; bound ", formatCount(patchEstimate), ")")
+                          *options.subdivideMaxEdge, "; bound ", formatCount(patchEstimate), ")")
                  : concat(formatCount(patches->patchCount()), " (no subdivision)"));
     printRow("vertices", concat(formatCount(patches->vertexCount()), " (welded)"));
     printRow("materials",

@@ -65,6 +65,15 @@ int main(int argc, char** argv) {
     validateCmd->add_option("--against", validate.against, "Backend to compare with")
         ->check(CLI::IsMember({"reference", "cpu"}))
         ->capture_default_str();
+    validateCmd->add_option("--rtol", validate.relativeTolerance, "Relative tolerance per entry")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    validateCmd->add_option("--atol", validate.absoluteTolerance, "Absolute tolerance per entry")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    validateCmd->add_option("--worst", validate.worstShown, "Worst entries to list")
+        ->check(CLI::Range(0, 1000000))
+        ->capture_default_str();
 
     auto* benchCmd = app.add_subcommand("bench", "Benchmark run time against error");
     addCommonOptions(*benchCmd, common, /*sceneRequired=*/false);
@@ -104,10 +113,10 @@ int main(int argc, char** argv) {
         daisy::logError("daisy validate: --backend must be vulkan or cuda");
         return 2;
     }
-    if (*renderCmd) return notBuiltYet("render", "the image renderer");
+    if (*renderCmd) return runRender(common, render);
     if (*solveCmd) return runSolve(common, exports);
     if (*viewCmd) return notBuiltYet("view", "the viewer");
-    if (*validateCmd) return notBuiltYet("validate", "the GPU backends");
+    if (*validateCmd) return runValidate(common, validate);
     if (*benchCmd) return notBuiltYet("bench", "the benchmark driver");
     return 1;
 }

@@ -43,6 +43,7 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
     command.add_option("--backend", options.backend, "Form-factor backend")
         ->check(CLI::IsMember({"auto", "cpu", "reference", "vulkan", "cuda"}))
         ->capture_default_str();
+    command.add_option("--device", options.device, "GPU for vulkan/cuda: index or part of its name");
     command.add_option("--method", options.method, "Form-factor method")
         ->check(CLI::IsMember({"hybrid", "riemann", "nusselt", "stochastic"}))
         ->capture_default_str();
@@ -59,9 +60,9 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
         ->capture_default_str();
     command
         .add_option("--subdivide", options.subdivideMaxEdge,
-                    "Subdivide patches to this maximum edge length (0 = none)")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
+                    "Subdivide patches to this maximum edge length (0 = none; default: "
+                    "render and view choose from the scene, other commands keep the triangles)")
+        ->check(CLI::NonNegativeNumber);
     command.add_option("--wavelengths", options.wavelengths, "Wavelength set")
         ->check(kWavelengthSet)
         ->capture_default_str();

@@ -15,11 +15,14 @@ namespace daisy::app {
 struct CommonOptions {
     std::string scenePath;
     std::string backend = "auto";  // auto | cpu | reference | vulkan | cuda
+    std::string device;  // --device: GPU index or part of its name; empty = first suitable
     std::string method = "hybrid";  // hybrid | riemann | nusselt | stochastic
     int quadratureLevel = 1;  // L: 4^L points per patch
     int raysPerPair = 16;  // K shadow rays per pair; 0 = no visibility test
     int stochasticRays = 1024;  // N rays per patch for --method stochastic
-    double subdivideMaxEdge = 0;  // scene units; 0 = keep the input triangles
+    // --subdivide: scene units; 0 = keep the input triangles; unset = `render` and `view` choose
+    // a patch size from the scene (geometry/auto_patch_size.h), other commands keep the triangles
+    std::optional<double> subdivideMaxEdge;
     std::string wavelengths = "auto";  // see spectral/wavelength_spec.h
     WavelengthSpec wavelengthSpec;  // parsed from `wavelengths`
     std::string solver = "gauss-seidel";  // gauss-seidel | jacobi | southwell
@@ -59,6 +62,10 @@ struct ExportOptions {
 
 struct ValidateOptions {
     std::string against = "reference";
+    // An entry agrees when |a - b| <= relativeTolerance * max(|a|, |b|) + absoluteTolerance.
+    double relativeTolerance = 1e-4;
+    double absoluteTolerance = 1e-7;
+    int worstShown = 10;  // worst entries listed
 };
 
 struct BenchOptions {

@@ -26,9 +26,10 @@ Expected<Scene> loadSceneLogged(const CommonOptions& options) {
     return scene;
 }
 
-Expected<PatchMesh> buildPatchesWithin(const CommonOptions& options, const Scene& scene) {
+Expected<PatchMesh> buildPatchesWithin(const CommonOptions& options, const Scene& scene,
+                                       double maxEdge) {
     const uint64_t patchLimit = options.maxMemoryBytes / kPatchMeshBytesPerPatch;
-    auto patches = buildPatchMesh(scene.mesh, options.subdivideMaxEdge, patchLimit);
+    auto patches = buildPatchMesh(scene.mesh, maxEdge, patchLimit);
     if (!patches) {
         return Error{concat(options.scenePath, ": ", patches.error().message, " (--max-memory ",
                             formatBytes(static_cast<double>(options.maxMemoryBytes)), ")")};
@@ -49,7 +50,7 @@ Expected<FormFactorRun> buildFormFactorsFor(const CommonOptions& options,
                             formatBytes(static_cast<double>(options.maxMemoryBytes)),
                             "; use a larger --subdivide or raise --max-memory")};
     }
-    auto backend = makeBackend(options.backend);
+    auto backend = makeBackend(options.backend, BackendOptions{options.device});
     if (!backend)
         return Error{concat("--backend ", options.backend, ": ", backend.error().message)};
     auto result = (*backend)->buildFormFactors(patches, formFactorSettingsFrom(options));

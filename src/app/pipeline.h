@@ -20,8 +20,10 @@ FormFactorSettings formFactorSettingsFrom(const CommonOptions& options);
 // Loads the scene and logs its warnings.
 Expected<Scene> loadSceneLogged(const CommonOptions& options);
 
-// Builds the patches with --subdivide, refusing more than --max-memory allows.
-Expected<PatchMesh> buildPatchesWithin(const CommonOptions& options, const Scene& scene);
+// Builds the patches subdivided to maxEdge (0 = the input triangles), refusing more than
+// --max-memory allows.
+Expected<PatchMesh> buildPatchesWithin(const CommonOptions& options, const Scene& scene,
+                                       double maxEdge);
 
 struct FormFactorRun {
     FormFactorResult result;

@@ -92,7 +92,7 @@ int runSolve(const CommonOptions& options, const ExportOptions& exports) {
         logError(concat("--wavelengths ", options.wavelengths, ": ", set.error().message));
         return 2;
     }
-    auto patches = buildPatchesWithin(options, *scene);
+    auto patches = buildPatchesWithin(options, *scene, options.subdivideMaxEdge.value_or(0));
     if (!patches) {
         logError(patches.error().message);
         return 2;

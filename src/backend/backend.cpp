@@ -8,7 +8,9 @@ std::vector<std::string> backendNames() {
     return {"auto", "cpu", "reference", "vulkan", "cuda"};
 }
 
-Expected<std::unique_ptr<Backend>> makeBackend(const std::string& name) {
+Expected<std::unique_ptr<Backend>> makeBackend(const std::string& name,
+                                               const BackendOptions& options) {
+    (void)options;  // TODO(issue 8): vulkan device selection
     if (name == "auto" || name == "cpu") return makeCpuBackend();
     for (const std::string& known : backendNames()) {
         if (name == known) {

@@ -1,8 +1,9 @@
 #pragma once
-// Backends build the view-factor matrix (DESIGN.md section 8). `cpu` (Embree rays, TBB threads)
-// is built today; `reference`, `vulkan` and `cuda` land with their issues and until then are
-// refused with a clear message. `auto` picks the best built backend: cuda, then vulkan on a GPU,
-// then cpu; today that is always cpu.
+// Backends build the view-factor matrix (DESIGN.md section 8): `cpu` (Embree rays, TBB threads),
+// `reference` (the shared kernels of src/shared/ on the CPU over our flat BVH: the oracle for the
+// GPU backends), `vulkan` (the same kernels as compute shaders; built with DAISY_ENABLE_VULKAN)
+// and `cuda` (lands with its issue; until then refused with a clear message). `auto` picks cuda,
+// then vulkan on a discrete or integrated GPU, then cpu.
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,13 +23,19 @@ public:
                                                         const FormFactorSettings& settings) = 0;
 };
 
+struct BackendOptions {
+    std::string device;  // --device: GPU index or part of its name; empty = the first suitable
+};
+
 // Every backend name the command line accepts, "auto" first.
 std::vector<std::string> backendNames();
 
 // The backend called `name` ("auto" resolves as above). Error for unknown names and for
 // backends not built into this binary: "backend 'vulkan' is not built yet".
-Expected<std::unique_ptr<Backend>> makeBackend(const std::string& name);
+Expected<std::unique_ptr<Backend>> makeBackend(const std::string& name,
+                                               const BackendOptions& options = {});
 
 std::unique_ptr<Backend> makeCpuBackend();
+std::unique_ptr<Backend> makeReferenceBackend();
 
 }  // namespace daisy

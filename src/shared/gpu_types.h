@@ -29,6 +29,50 @@ struct PairFactors {
     float fji;  // fraction leaving j arriving at i; A_i fij = A_j fji (reciprocity)
 };
 
+// One node of the flat BVH (geometry/flat_bvh.h), 32 bytes, nodes in depth-first order with the
+// root at 0. Interior node (count == 0): its children are nodes `first` and `first + 1`. Leaf
+// (count > 0): triangles first .. first + count - 1 of the BVH's triangle array.
+struct BvhNode {
+    vec3 lo;  // bounding box minimum corner, scene units
+    uint first;  // interior: index of the first child; leaf: index of the first triangle
+    vec3 hi;  // bounding box maximum corner, scene units
+    uint count;  // leaf: number of triangles (> 0); interior: 0
+};
+
+// A triangle in BVH leaf order, 40 bytes: its corners as float world positions (counter-clockwise
+// about the patch normal) and the patch it belongs to.
+struct BvhTriangle {
+    vec3 a;  // scene units
+    vec3 b;  // scene units
+    vec3 c;  // scene units
+    uint patchIndex;  // index into the PatchMesh
+};
+
+// One unordered pair handed to the pair kernel, i < j. 8 bytes.
+struct PairIndex {
+    uint i;  // patch index
+    uint j;  // patch index, > i
+};
+
+// Push constants of the pair kernel (shaders/form_factors.comp.glsl) and the arguments the CPU
+// reference backend passes the same way. Device addresses are Vulkan buffer device addresses
+// (GLSL: GL_EXT_shader_explicit_arithmetic_types_int64 and GL_EXT_buffer_reference). 72 bytes.
+struct PairKernelParams {
+    uint64_t patches;  // address of PatchGeometry[patchCount]
+    uint64_t nodes;  // address of BvhNode[]
+    uint64_t triangles;  // address of BvhTriangle[]
+    uint64_t pairs;  // address of PairIndex[], this batch
+    uint64_t results;  // address of PairFactors[], this batch, same indices as pairs
+    uint pairOffset;  // first pair of this dispatch within the batch
+    uint pairCount;  // pairs of this dispatch
+    int method;  // DAISY_METHOD_*
+    int level;  // quadrature level L
+    int rays;  // K shadow segments per pair; 0 = no visibility (V = 1)
+    uint seed;  // 32-bit seed of the per-pair sample sequence (rng.h pairSeed)
+    float clearance;  // shadow segments stop this far from their patches' planes, scene units
+    uint pad0;  // padding to a multiple of 8 bytes; must be ignored
+};
+
 // Builds a PatchGeometry from its corners (counter-clockwise about the front side).
 DAISY_HD PatchGeometry makePatchGeometry(vec3 a, vec3 b, vec3 c) {
     PatchGeometry g;
@@ -74,6 +118,16 @@ static_assert(offsetof(daisy::shared::PatchGeometry, normal) == 36);
 static_assert(offsetof(daisy::shared::PatchGeometry, area) == 48);
 static_assert(offsetof(daisy::shared::PatchGeometry, pad0) == 52);
 static_assert(sizeof(daisy::shared::PairFactors) == 8);
+static_assert(sizeof(daisy::shared::BvhNode) == 32);
+static_assert(offsetof(daisy::shared::BvhNode, first) == 12);
+static_assert(offsetof(daisy::shared::BvhNode, hi) == 16);
+static_assert(offsetof(daisy::shared::BvhNode, count) == 28);
+static_assert(sizeof(daisy::shared::BvhTriangle) == 40);
+static_assert(offsetof(daisy::shared::BvhTriangle, patchIndex) == 36);
+static_assert(sizeof(daisy::shared::PairIndex) == 8);
+static_assert(sizeof(daisy::shared::PairKernelParams) == 72);
+static_assert(offsetof(daisy::shared::PairKernelParams, pairOffset) == 40);
+static_assert(offsetof(daisy::shared::PairKernelParams, clearance) == 64);
 static_assert(offsetof(daisy::shared::PairFactors, fji) == 4);
 #endif
 
