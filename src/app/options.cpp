@@ -43,7 +43,8 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
     command.add_option("--backend", options.backend, "Form-factor backend")
         ->check(CLI::IsMember({"auto", "cpu", "reference", "vulkan", "cuda"}))
         ->capture_default_str();
-    command.add_option("--device", options.device, "GPU for vulkan/cuda: index or part of its name");
+    command.add_option("--device", options.device,
+                       "GPU for vulkan/cuda: index or part of its name");
     command.add_option("--method", options.method, "Form-factor method")
         ->check(CLI::IsMember({"hybrid", "riemann", "nusselt", "stochastic"}))
         ->capture_default_str();
