@@ -20,6 +20,9 @@ int runRender(const CommonOptions& options, const RenderOptions& render);
 // of two backends' matrices; 1 when over tolerance.
 int runValidate(const CommonOptions& options, const ValidateOptions& validate);
 
+// `daisy bench [SCENE] [--stress] [--quick] [-o results.csv]` (issue 7).
+int runBench(const CommonOptions& options, const BenchOptions& bench);
+
 // For subcommands whose stage has not landed: says so on stderr and returns 2.
 int notBuiltYet(const char* command, const char* stage);
 

@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
     auto* benchCmd = app.add_subcommand("bench", "Benchmark run time against error");
     addCommonOptions(*benchCmd, common, /*sceneRequired=*/false);
     benchCmd->add_flag("--stress", bench.stress, "Run the numerical stress suite");
+    benchCmd->add_flag("--quick", bench.quick, "Reduced sizes (what ctest runs)");
     benchCmd->add_option("-o,--output", bench.outputPath, "CSV of the results");
 
     const std::string first = argc > 1 ? argv[1] : "";
@@ -117,6 +118,6 @@ int main(int argc, char** argv) {
     if (*solveCmd) return runSolve(common, exports);
     if (*viewCmd) return notBuiltYet("view", "the viewer");
     if (*validateCmd) return runValidate(common, validate);
-    if (*benchCmd) return notBuiltYet("bench", "the benchmark driver");
+    if (*benchCmd) return runBench(common, bench);
     return 1;
 }

@@ -69,7 +69,8 @@ struct ValidateOptions {
 };
 
 struct BenchOptions {
-    bool stress = false;
+    bool stress = false;  // the numerical stress suite instead of the time/error sweep
+    bool quick = false;  // reduced sizes (what ctest runs)
     std::string outputPath;  // CSV
 };
 
