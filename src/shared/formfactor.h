@@ -25,9 +25,21 @@ DAISY_HD float planeEpsilon(float scale) {
     return 1.0e-5f * scale;
 }
 
+// Bound on the float rounding of coordinates near x and y (2^-22 of their largest components,
+// four half-ulps): the part of "on the plane" that does not shrink with the distances, which
+// matters for patches far from the origin relative to their size.
+DAISY_HD float coordinateEpsilon(vec3 x, vec3 y) {
+    float mx = max(abs(x.x), abs(y.x));
+    float my = max(abs(x.y), abs(y.y));
+    float mz = max(abs(x.z), abs(y.z));
+    return 2.4e-7f * max(max(mx, my), mz);
+}
+
 // True when j has no point strictly in front of i's plane or i none in front of j's, so F_ij =
 // F_ji = 0 with no rays: back-to-back, facing away and coplanar pairs. "Strictly" allows float
-// rounding (planeEpsilon of each corner's distance from the plane's anchor).
+// rounding: planeEpsilon of each corner's distance from the plane's anchor plus the rounding of
+// the coordinates themselves (coordinateEpsilon), so coplanar patches far from the origin stay
+// exactly 0.
 DAISY_HD bool facingAway(DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j) {
     vec3 cj[3] = {j.a, j.b, j.c};
     vec3 ci[3] = {i.a, i.b, i.c};
@@ -35,9 +47,11 @@ DAISY_HD bool facingAway(DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j) {
     bool iInFrontOfJ = false;
     for (int k = 0; k < 3; ++k) {
         vec3 dj = cj[k] - i.a;
-        if (dot(i.normal, dj) > planeEpsilon(length(dj))) jInFrontOfI = true;
+        float ej = planeEpsilon(length(dj)) + coordinateEpsilon(cj[k], i.a);
+        if (dot(i.normal, dj) > ej) jInFrontOfI = true;
         vec3 di = ci[k] - j.a;
-        if (dot(j.normal, di) > planeEpsilon(length(di))) iInFrontOfJ = true;
+        float ei = planeEpsilon(length(di)) + coordinateEpsilon(ci[k], j.a);
+        if (dot(j.normal, di) > ei) iInFrontOfJ = true;
     }
     return !(jInFrontOfI && iInFrontOfJ);
 }
@@ -96,10 +110,13 @@ DAISY_HD float pointToPolygonFactor(vec3 p, vec3 n, DAISY_IN(ClippedPolygon) pol
 
 // Unoccluded factor from a differential area at p with unit normal n to triangle t: 0 when p is
 // not in front of t (one-sided receiver); otherwise t is clipped to p's front half-space first,
-// so a t straddling p's tangent plane counts only the part p can see.
+// so a t straddling p's tangent plane counts only the part p can see. "In front" has no
+// tolerance: the factor is continuous as p approaches t's plane outside t (it tends to 0), and
+// over t it tends to 1, which a tolerance relative to |p - t.a| would cut off for points within
+// 1e-5 of a long patch's length from it (nearly coincident patches, slivers' neighbours).
 DAISY_HD float pointToTriangleFactor(vec3 p, vec3 n, DAISY_IN(PatchGeometry) t) {
     vec3 d = p - t.a;
-    if (dot(t.normal, d) <= planeEpsilon(length(d))) return 0.0f;
+    if (dot(t.normal, d) <= 0.0f) return 0.0f;
     ClippedPolygon poly = clipTriangleToHalfSpace(t.a, t.b, t.c, p, n);
     if (poly.count < 3) return 0.0f;
     return pointToPolygonFactor(p, n, poly);

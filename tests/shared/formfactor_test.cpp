@@ -255,5 +255,74 @@ TEST(FormFactorPair, ClipsBothPatchesToEachOthersFrontSide) {
     EXPECT_NEAR(whole, pieces, 5e-4f * whole);
 }
 
+// Stress-suite findings (docs/performance.md, "Numerical stress suite").
+
+// A point hovering just above a large patch sees almost a hemisphere of it: with the coaxial
+// disc of radius r = 0.35 inscribed in the triangle, F >= r^2 / (r^2 + h^2) (disc-to-point
+// closed form, Howell B-13), > 0.999 here. A front test with a tolerance relative to |p - t.a|
+// (1e-5 of the patch's length) returned 0 for h under ~1e-5, so unit squares 1e-6 apart got
+// F ~ 0.008 instead of ~1 (stress suite, "parallel gap 1e-06").
+TEST(FormFactorPoint, NearlyCoincidentPlaneSeesAlmostAHemisphere) {
+    const vec3 n{0, 0, 1};
+    const vec3 p{0.25f, 0.25f, 0};
+    for (float h : {1e-6f, 1e-5f, 1e-4f}) {
+        const PatchGeometry t = makePatchGeometry({-1, -1, h}, {-1, 2, h}, {2, -1, h});
+        EXPECT_GT(pointToTriangleFactor(p, n, t), 0.999f) << "h = " << h;
+        EXPECT_LE(pointToTriangleFactor(p, n, t), 1.0f + 1e-6f) << "h = " << h;
+    }
+}
+
+// Parallel coaxial unit squares 1e-6 apart: Howell C-11 gives F = 1 - 1.3e-5 (closed form
+// evaluated in double); the old tolerance made it ~0.008.
+TEST(FormFactorPair, NearlyCoincidentParallelSquaresHowellC11) {
+    const float gap = 1e-6f;
+    const Square top = square({0, 0, gap}, {0, 1, gap}, {1, 1, gap}, {1, 0, gap});
+    const double x = 1.0 / double(gap), x1 = std::sqrt(1 + x * x);
+    const double exact = 2 / (kPiD * x * x) *
+        (0.5 * std::log((1 + x * x) * (1 + x * x) / (1 + 2 * x * x)) +
+         2 * x * x1 * std::atan(x / x1) - 2 * x * std::atan(x));
+    EXPECT_NEAR(squareFactor(DAISY_METHOD_HYBRID, 1, kFloor, top), exact, 1e-3);
+}
+
+// The end cap of a 1 x 1e-4 x 1e-4 box sees only the four long faces: its row sums to 1
+// (enclosure rule). The cap's quadrature points lie within 1e-4 of the long faces' planes, and
+// the old tolerance (1e-5 of the distance to the far corner) dropped those within 1e-5: 0.82.
+TEST(FormFactorPair, SliverBoxEndCapRowSumsToOne) {
+    const float w = 1e-4f;
+    const Square cap = square({1, 0, 0}, {1, 0, w}, {1, w, w}, {1, w, 0});  // normal -x
+    const Square faces[4] = {
+        square({0, 0, 0}, {1, 0, 0}, {1, w, 0}, {0, w, 0}),  // z = 0, normal +z
+        square({0, 0, w}, {0, w, w}, {1, w, w}, {1, 0, w}),  // z = w, normal -z
+        square({0, 0, 0}, {0, 0, w}, {1, 0, w}, {1, 0, 0}),  // y = 0, normal +y
+        square({0, w, 0}, {1, w, 0}, {1, w, w}, {0, w, w}),  // y = w, normal -y
+    };
+    double sum = 0;
+    for (const Square& face : faces)
+        sum += squareFactor(DAISY_METHOD_HYBRID, 1, cap, face);
+    const Square farCap = square({0, 0, 0}, {0, w, 0}, {0, w, w}, {0, 0, w});
+    sum += squareFactor(DAISY_METHOD_HYBRID, 1, cap, farCap);
+    EXPECT_NEAR(sum, 1.0, 1e-3);
+}
+
+// Coplanar patches far from the origin relative to their size: rounding the corners to float
+// tilts them by ~6e-5 of their size, more than planeEpsilon; coordinateEpsilon keeps F = 0.
+TEST(FormFactorPair, CoplanarPairsFarFromTheOriginAreZero) {
+    const vec3 o{1000.37f, -2000.11f, 1500.53f};
+    const vec3 u = vec3(0.9f, 1.8f, -0.45f), v = vec3(-1.4f, 0.7f, 0.21f);
+    int nonzero = 0;
+    for (int a = 0; a < 6; ++a) {
+        for (int b = 0; b < 6; ++b) {
+            const vec3 p = o + u * float(a) + v * float(b);
+            const PatchGeometry i = makePatchGeometry(p, p + u, p + u + v);
+            const PatchGeometry j = makePatchGeometry(p, p + u + v, p + v);
+            const PatchGeometry k = makePatchGeometry(p + u, p + u * 2.0f, p + u * 2.0f + v);
+            nonzero += pairFactors(DAISY_METHOD_HYBRID, 1, i, j).fij != 0.0f;
+            nonzero += pairFactors(DAISY_METHOD_HYBRID, 1, i, k).fij != 0.0f;
+            nonzero += pairFactors(DAISY_METHOD_HYBRID, 1, j, k).fij != 0.0f;
+        }
+    }
+    EXPECT_EQ(nonzero, 0);
+}
+
 }  // namespace
 }  // namespace daisy::shared
