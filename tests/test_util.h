@@ -5,6 +5,8 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -64,4 +66,21 @@ inline std::string testDataPath(const std::string& relative) {
     return std::string(DAISY_TEST_DATA_DIR) + "/" + relative;
 }
 
+// DAISY_REQUIRE_VULKAN=1 (what .ci/run sets): the vulkan backend must run, so a test that would
+// skip for want of a Vulkan device fails instead and CI cannot silently skip.
+inline bool vulkanRequired() {
+    const char* value = std::getenv("DAISY_REQUIRE_VULKAN");
+    return value && std::strcmp(value, "1") == 0;
+}
+
 }  // namespace daisy::test
+
+// Skips the test with `reason` for want of a usable Vulkan device; fails it instead under
+// DAISY_REQUIRE_VULKAN=1.
+#define DAISY_SKIP_WITHOUT_VULKAN(reason)                                                       \
+    do {                                                                                        \
+        if (::daisy::test::vulkanRequired()) {                                                  \
+            FAIL() << "DAISY_REQUIRE_VULKAN=1 but the vulkan backend cannot run: " << (reason); \
+        }                                                                                       \
+        GTEST_SKIP() << "no usable Vulkan device: " << (reason);                                \
+    } while (0)

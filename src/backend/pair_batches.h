@@ -21,8 +21,10 @@ namespace daisy {
 using PairEvaluator = std::function<Expected<void>(std::span<const shared::PairIndex> pairs,
                                                    std::span<shared::PairFactors> out)>;
 
-// The kernel-side inputs every pair-kernel backend uploads: the patches as the kernels see them,
-// the end clearance of shadow segments (scene units) and the 32-bit seed.
+// The kernel-side inputs every pair-kernel backend uploads: the patches as the kernels see them
+// and the end clearance of shadow segments (scene units). The method constant and the 32-bit
+// seed come from detail::methodConstant and detail::seed32 (radiosity/form_factors_internal.h),
+// as in the cpu backend.
 std::vector<shared::PatchGeometry> kernelPatches(const PatchMesh& mesh);
 float shadowClearance(const PatchMesh& mesh);
 

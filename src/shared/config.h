@@ -34,4 +34,16 @@
 // in registers/local memory; allows ~40 splits, far more than a shared edge or vertex needs.
 #define DAISY_FF_MAX_CELLS 128
 
+// Entries of the BVH traversal stack (bvh_traverse.h), one per tree level below the root: the
+// builder (geometry/flat_bvh.cpp) caps the depth at this, so the stack cannot overflow. 64 uints
+// are 256 bytes of local memory per GPU thread.
+#define DAISY_BVH_STACK_SIZE 64
+// Shadow segments are tested for t in (MARGIN, 1 - MARGIN) of their length: the relative end
+// margin of the cpu backend's Embree rays (RayCaster::kSegmentMargin), so both test the same span.
+#define DAISY_SEGMENT_MARGIN 1.0e-5f
+
+// Invocations per workgroup of the pair kernel (shaders/form_factors.comp.glsl); the host
+// dispatches ceil(pairCount / DAISY_PAIR_WORKGROUP_SIZE) groups.
+#define DAISY_PAIR_WORKGROUP_SIZE 64
+
 #endif  // DAISY_SHARED_CONFIG_H

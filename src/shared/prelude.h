@@ -21,6 +21,40 @@
 #define DAISY_INOUT(T) inout T
 #define DAISY_SHARED_BEGIN
 #define DAISY_SHARED_END
+// A read-only GPU buffer of T reached through a 64-bit device address: `DAISY_BUFFER(Name, T);`
+// declares the type Name, read as `buf.v[k]` in both languages. The including shader must enable
+// GL_EXT_buffer_reference, GL_EXT_scalar_block_layout (scalar layout matches the C++ structs,
+// gpu_types.h) and GL_EXT_shader_explicit_arithmetic_types_int64 (uint64_t addresses), plus
+// GL_GOOGLE_include_directive for the #includes; it can construct a Name from a uint64_t.
+#define DAISY_BUFFER(Name, T)                                                           \
+    layout(buffer_reference, scalar, buffer_reference_align = 4) readonly buffer Name { \
+        T v[];                                                                          \
+    }
+// uint64_t is a built-in type under GL_EXT_shader_explicit_arithmetic_types_int64.
+// Vulkan lets a driver's atan be off by 4096 ULP (Vulkan spec, "Precision and Operation of
+// SPIR-V Instructions"), and lavapipe's is: F_ij differed from the reference backend's by up to
+// 3e-4 relative through the contour integral's edge angles (formfactor.h). So the shared code's
+// two-argument atan is this one: Cephes' atanf polynomial after reduction to [0, tan(pi/8)],
+// ~2 ULP like the C library's atan2f.
+float daisyAtan2(float y, float x) {
+    float ax = abs(x);
+    float ay = abs(y);
+    float big = max(ax, ay);
+    float a = big > 0.0 ? min(ax, ay) / big : 0.0;  // in [0, 1]
+    float offset = 0.0;
+    if (a > 0.414213562) {  // tan(pi/8): atan(a) = pi/4 + atan((a - 1) / (a + 1))
+        a = (a - 1.0) / (a + 1.0);
+        offset = 0.785398163;
+    }
+    float z = a * a;
+    float p =
+        ((8.05374449538e-2 * z - 1.38776856032e-1) * z + 1.99777106478e-1) * z - 3.33329491539e-1;
+    float r = offset + a + a * z * p;
+    if (ay > ax) r = 1.57079633 - r;
+    if (x < 0.0) r = 3.14159265 - r;
+    return y < 0.0 ? -r : r;
+}
+#define atan(y, x) daisyAtan2(y, x)
 
 #else
 
@@ -39,10 +73,18 @@
 #define DAISY_INOUT(T) T&
 #define DAISY_SHARED_BEGIN namespace daisy::shared {
 #define DAISY_SHARED_END }
+// A read-only device buffer of T: in C++ a plain pointer to the host (or CUDA device) array, read
+// as `buf.v[k]` as in GLSL. `DAISY_BUFFER(Name, T);` declares the type Name (GLSL side above).
+#define DAISY_BUFFER(Name, T) \
+    struct Name {             \
+        const T* v;           \
+    }
 
 namespace daisy::shared {
 
 using uint = std::uint32_t;
+// GLSL's uint64_t (GL_EXT_shader_explicit_arithmetic_types_int64): device addresses.
+using uint64_t = std::uint64_t;
 
 // Float math under GLSL's names. The C functions (sqrtf, ...) exist in CUDA device code too.
 DAISY_HD float sqrt(float x) {

@@ -1,0 +1,43 @@
+// The per-pair kernel of the pair-kernel backends (reference, vulkan, cuda; DESIGN.md section 8):
+// both entries of one unordered pair {i, j}, unoccluded factor times visibility. The host driver
+// (backend/pair_batches.h) enumerates the pairs and assembles F; a GPU thread or CPU task calls
+// pairEntry once per pair.
+#ifndef DAISY_SHARED_PAIR_KERNEL_H
+#define DAISY_SHARED_PAIR_KERNEL_H
+
+#include "bvh_traverse.h"
+#include "config.h"
+#include "formfactor.h"
+#include "gpu_types.h"
+#include "prelude.h"
+#include "rng.h"
+#include "visibility.h"
+
+DAISY_SHARED_BEGIN
+
+// F_ij and F_ji of the pair (i, j) (patch indices, i < j as the driver passes them) with
+// geometry gi, gj: pairFactors(method, level, gi, gj) (formfactor.h; negative rounding clamped to
+// 0) times V_ij = pairVisibility of `rays` shadow segments seeded by pairSeed(i, j, seed)
+// (visibility.h; the cpu backend's segments). V = 1 when rays == 0; no rays are cast when the
+// unoccluded factor is 0 (facing-away pairs included). method is DAISY_METHOD_RIEMANN, _NUSSELT
+// or _HYBRID (stochastic has no pair kernel: 0). seed is the 32-bit seed, clearance the segments'
+// end clearance in scene units. fij * V is rounded once for power-of-two rays, as the cpu
+// driver's float(double(fij) * open / K).
+DAISY_HD PairFactors pairEntry(uint i, uint j, DAISY_IN(PatchGeometry) gi,
+                               DAISY_IN(PatchGeometry) gj, int method, int level, int rays,
+                               uint seed, float clearance, BvhNodeBuffer nodes,
+                               BvhTriangleBuffer triangles) {
+    PairFactors f = pairFactors(method, level, gi, gj);
+    f.fij = max(f.fij, 0.0f);
+    f.fji = max(f.fji, 0.0f);
+    if (rays > 0 && (f.fij > 0.0f || f.fji > 0.0f)) {
+        float v = pairVisibility(pairSeed(i, j, seed), rays, gi, gj, clearance, nodes, triangles);
+        f.fij = f.fij * v;
+        f.fji = f.fji * v;
+    }
+    return f;
+}
+
+DAISY_SHARED_END
+
+#endif  // DAISY_SHARED_PAIR_KERNEL_H
