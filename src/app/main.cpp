@@ -28,8 +28,13 @@ int main(int argc, char** argv) {
             return "the image must end in .png, .exr or .pfm";
         })
         ->capture_default_str();
-    renderCmd->add_option("--width", render.width, "Image width")->check(CLI::Range(1, 16384));
-    renderCmd->add_option("--height", render.height, "Image height")->check(CLI::Range(1, 16384));
+    renderCmd->add_option("--width", render.width, "Image width")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 16384));
+    renderCmd
+        ->add_option("--height", render.height,
+                     "Image height (default: width / the camera's aspect ratio, else 3/4)")
+        ->check(CLI::Range(1, 16384));
     renderCmd->add_option("--camera", render.camera, "Camera name or index");
     renderCmd->add_option("--spp", render.samplesPerPixel, "Samples per pixel")
         ->check(CLI::Range(1, 4096));
@@ -41,6 +46,16 @@ int main(int argc, char** argv) {
                     : "'" + text + "' is not an exposure: use a number of EV or auto";
             },
             "EV|auto"));
+    renderCmd->add_flag("--spectral-exr", render.spectralExr,
+                        "EXR with one channel per wavelength sample (Fichet et al. 2021)");
+    renderCmd->add_option("--background", render.background, "R,G,B of rays that miss, 0..1")
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                return parseBackground(text) ? std::string()
+                                             : "'" + text + "' is not R,G,B with values in [0, 1]";
+            },
+            "R,G,B"))
+        ->capture_default_str();
 
     auto* solveCmd = app.add_subcommand("solve", "Solve spectral radiosity");
     addCommonOptions(*solveCmd, common);

@@ -1,0 +1,38 @@
+// The pair kernel (DESIGN.md section 8): one invocation per unordered pair of this dispatch. main()
+// only unpacks ids and calls the shared pairEntry (src/shared/pair_kernel.h), the same function
+// the reference backend runs on the CPU. Inputs are the push constants (PairKernelParams,
+// gpu_types.h): buffer device addresses of the patches, the flat BVH and this batch's pairs and
+// results.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_scalar_block_layout : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+
+#include "shared/config.h"
+#include "shared/gpu_types.h"
+#include "shared/pair_kernel.h"
+
+layout(local_size_x = DAISY_PAIR_WORKGROUP_SIZE) in;
+
+layout(push_constant, scalar) uniform Push {
+    PairKernelParams params;
+};
+
+DAISY_BUFFER(KernelPatches, PatchGeometry);
+DAISY_BUFFER(KernelPairs, PairIndex);
+layout(buffer_reference, scalar, buffer_reference_align = 4) writeonly buffer KernelResults {
+    PairFactors v[];
+};
+
+void main() {
+    const uint k = gl_GlobalInvocationID.x;
+    if (k >= params.pairCount) return;
+    const uint slot = params.pairOffset + k;
+    const PairIndex pair = KernelPairs(params.pairs).v[slot];
+    KernelPatches patches = KernelPatches(params.patches);
+    KernelResults(params.results).v[slot] =
+        pairEntry(pair.i, pair.j, patches.v[pair.i], patches.v[pair.j], params.method, params.level,
+                  params.rays, params.seed, params.clearance, BvhNodeBuffer(params.nodes),
+                  BvhTriangleBuffer(params.triangles));
+}

@@ -1,0 +1,392 @@
+#include "vulkan/context.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <vector>
+
+#include "core/log.h"
+#include "core/strings.h"
+#include "vulkan/vk_check.h"
+
+namespace daisy {
+
+const char* vkResultName(VkResult result) {
+    switch (result) {
+#define DAISY_VK_RESULT(name) \
+    case name:                \
+        return #name;
+        DAISY_VK_RESULT(VK_SUCCESS)
+        DAISY_VK_RESULT(VK_NOT_READY)
+        DAISY_VK_RESULT(VK_TIMEOUT)
+        DAISY_VK_RESULT(VK_EVENT_SET)
+        DAISY_VK_RESULT(VK_EVENT_RESET)
+        DAISY_VK_RESULT(VK_INCOMPLETE)
+        DAISY_VK_RESULT(VK_ERROR_OUT_OF_HOST_MEMORY)
+        DAISY_VK_RESULT(VK_ERROR_OUT_OF_DEVICE_MEMORY)
+        DAISY_VK_RESULT(VK_ERROR_INITIALIZATION_FAILED)
+        DAISY_VK_RESULT(VK_ERROR_DEVICE_LOST)
+        DAISY_VK_RESULT(VK_ERROR_MEMORY_MAP_FAILED)
+        DAISY_VK_RESULT(VK_ERROR_LAYER_NOT_PRESENT)
+        DAISY_VK_RESULT(VK_ERROR_EXTENSION_NOT_PRESENT)
+        DAISY_VK_RESULT(VK_ERROR_FEATURE_NOT_PRESENT)
+        DAISY_VK_RESULT(VK_ERROR_INCOMPATIBLE_DRIVER)
+        DAISY_VK_RESULT(VK_ERROR_TOO_MANY_OBJECTS)
+        DAISY_VK_RESULT(VK_ERROR_FORMAT_NOT_SUPPORTED)
+        DAISY_VK_RESULT(VK_ERROR_FRAGMENTED_POOL)
+        DAISY_VK_RESULT(VK_ERROR_UNKNOWN)
+        DAISY_VK_RESULT(VK_ERROR_OUT_OF_POOL_MEMORY)
+        DAISY_VK_RESULT(VK_ERROR_INVALID_EXTERNAL_HANDLE)
+        DAISY_VK_RESULT(VK_ERROR_FRAGMENTATION)
+        DAISY_VK_RESULT(VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS)
+#undef DAISY_VK_RESULT
+        default:
+            break;
+    }
+    static thread_local char text[32];
+    std::snprintf(text, sizeof text, "VkResult(%d)", static_cast<int>(result));
+    return text;
+}
+
+namespace detail {
+void vkCheckFailed(VkResult result, const char* call, const char* file, int line) {
+    std::fprintf(stderr, "daisy: Vulkan call failed: %s returned %s at %s:%d\n", call,
+                 vkResultName(result), file, line);
+    std::fflush(stderr);
+    std::abort();
+}
+}  // namespace detail
+
+namespace {
+
+// Loads the Vulkan loader once per process; false when none is installed.
+bool loaderPresent() {
+    static const bool present = volkInitialize() == VK_SUCCESS;
+    return present;
+}
+
+bool validationRequested() {
+    const char* value = std::getenv("DAISY_VULKAN_VALIDATION");
+    return value && std::strcmp(value, "0") != 0 && value[0] != '\0';
+}
+
+bool layerPresent(const char* name) {
+    uint32_t count = 0;
+    vkEnumerateInstanceLayerProperties(&count, nullptr);
+    std::vector<VkLayerProperties> layers(count);
+    vkEnumerateInstanceLayerProperties(&count, layers.data());
+    for (const VkLayerProperties& layer : layers) {
+        if (std::strcmp(layer.layerName, name) == 0) return true;
+    }
+    return false;
+}
+
+Expected<VkInstance> createInstance() {
+    if (!loaderPresent()) {
+        return Error{
+            "no Vulkan loader (libvulkan.so.1) is installed; install a Vulkan driver "
+            "(e.g. mesa-vulkan-drivers) or use --backend cpu"};
+    }
+    uint32_t loaderVersion = VK_API_VERSION_1_0;
+    if (vkEnumerateInstanceVersion) vkEnumerateInstanceVersion(&loaderVersion);
+    if (loaderVersion < VK_API_VERSION_1_2) {
+        return Error{concat("the Vulkan loader offers version ",
+                            VK_API_VERSION_MAJOR(loaderVersion), ".",
+                            VK_API_VERSION_MINOR(loaderVersion), "; 1.2 is needed")};
+    }
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.pApplicationName = "daisy";
+    app.pEngineName = "DaisyRiot";
+    app.apiVersion = VK_API_VERSION_1_2;
+    VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    info.pApplicationInfo = &app;
+    const char* validationLayer = "VK_LAYER_KHRONOS_validation";
+    if (validationRequested()) {
+        if (layerPresent(validationLayer)) {
+            info.enabledLayerCount = 1;
+            info.ppEnabledLayerNames = &validationLayer;
+        } else {
+            logWarning(
+                "DAISY_VULKAN_VALIDATION is set but VK_LAYER_KHRONOS_validation is not "
+                "installed (Debian: vulkan-validationlayers); running without it");
+        }
+    }
+    VkInstance instance = VK_NULL_HANDLE;
+    const VkResult result = vkCreateInstance(&info, nullptr, &instance);
+    if (result != VK_SUCCESS) {
+        if (result == VK_ERROR_INCOMPATIBLE_DRIVER) {
+            return Error{
+                "no Vulkan driver found (a GPU vendor's, or Mesa's lavapipe CPU driver "
+                "from mesa-vulkan-drivers); install one or use --backend cpu"};
+        }
+        return Error{concat("cannot create a Vulkan 1.2 instance (", vkResultName(result), ")")};
+    }
+    // Instance-level loading only: device functions go through the loader's dispatch, which is
+    // right for every device of every context alive in the process.
+    volkLoadInstance(instance);
+    return instance;
+}
+
+// What `device` lacks for the pair kernel, or "" and its compute queue family.
+std::string checkDevice(VkPhysicalDevice device, uint32_t& queueFamily) {
+    VkPhysicalDeviceProperties properties;
+    vkGetPhysicalDeviceProperties(device, &properties);
+    if (properties.apiVersion < VK_API_VERSION_1_2) return "Vulkan 1.2";
+    VkPhysicalDeviceVulkan12Features features12{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    features.pNext = &features12;
+    vkGetPhysicalDeviceFeatures2(device, &features);
+    std::string missing;
+    const auto need = [&](bool present, const char* name) {
+        if (!present) missing += missing.empty() ? name : concat(", ", name);
+    };
+    need(features12.bufferDeviceAddress, "bufferDeviceAddress");
+    need(features12.scalarBlockLayout, "scalarBlockLayout");
+    need(features.features.shaderInt64, "shaderInt64");
+    uint32_t familyCount = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(device, &familyCount, nullptr);
+    std::vector<VkQueueFamilyProperties> families(familyCount);
+    vkGetPhysicalDeviceQueueFamilyProperties(device, &familyCount, families.data());
+    bool found = false;
+    for (uint32_t f = 0; f < familyCount && !found; ++f) {
+        if (families[f].queueFlags & VK_QUEUE_COMPUTE_BIT) {
+            queueFamily = f;
+            found = true;
+        }
+    }
+    need(found, "a compute queue");
+    return missing;
+}
+
+std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance) {
+    uint32_t count = 0;
+    vkEnumeratePhysicalDevices(instance, &count, nullptr);
+    std::vector<VkPhysicalDevice> devices(count);
+    vkEnumeratePhysicalDevices(instance, &count, devices.data());
+    devices.resize(count);
+    return devices;
+}
+
+std::vector<VulkanDeviceInfo> describe(const std::vector<VkPhysicalDevice>& devices) {
+    std::vector<VulkanDeviceInfo> infos;
+    for (uint32_t k = 0; k < devices.size(); ++k) {
+        VkPhysicalDeviceProperties properties;
+        vkGetPhysicalDeviceProperties(devices[k], &properties);
+        VulkanDeviceInfo info;
+        info.index = k;
+        info.name = properties.deviceName;
+        info.type = properties.deviceType;
+        info.apiVersion = properties.apiVersion;
+        uint32_t family = 0;
+        info.unsupported = checkDevice(devices[k], family);
+        infos.push_back(std::move(info));
+    }
+    return infos;
+}
+
+std::string deviceList(const std::vector<VulkanDeviceInfo>& infos) {
+    std::string text;
+    for (const VulkanDeviceInfo& info : infos) {
+        text += concat(text.empty() ? "" : "; ", info.index, " '", info.name, "' (",
+                       deviceTypeName(info.type),
+                       info.unsupported.empty() ? "" : concat(", lacks ", info.unsupported), ")");
+    }
+    return text;
+}
+
+int typeRank(VkPhysicalDeviceType type) {
+    switch (type) {
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return 0;
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return 1;
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return 2;
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return 3;
+        default:
+            return 4;
+    }
+}
+
+bool isIndex(const std::string& text) {
+    if (text.empty() || text.size() > 9) return false;
+    for (char c : text) {
+        if (c < '0' || c > '9') return false;
+    }
+    return true;
+}
+
+std::string lowercase(std::string text) {
+    for (char& c : text) {
+        if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+    }
+    return text;
+}
+
+// The chosen index into `infos`, or an error naming the selector.
+Expected<uint32_t> selectDevice(const std::vector<VulkanDeviceInfo>& infos,
+                                const std::string& selector) {
+    const std::string found = concat(" (found: ", deviceList(infos), ")");
+    if (selector.empty()) {
+        int best = -1;
+        for (const VulkanDeviceInfo& info : infos) {
+            if (!info.unsupported.empty()) continue;
+            if (best < 0 || typeRank(info.type) < typeRank(infos[best].type))
+                best = int(info.index);
+        }
+        if (best < 0) return Error{concat("no Vulkan device supports the compute backend", found)};
+        return uint32_t(best);
+    }
+    int chosen = -1;
+    if (isIndex(selector)) {
+        const unsigned long index = std::strtoul(selector.c_str(), nullptr, 10);
+        if (index >= infos.size()) {
+            return Error{
+                concat("--device ", selector, ": there is no Vulkan device ", selector, found)};
+        }
+        chosen = int(index);
+    } else {
+        for (const VulkanDeviceInfo& info : infos) {
+            if (lowercase(info.name).find(lowercase(selector)) == std::string::npos) continue;
+            if (chosen < 0) chosen = int(info.index);  // a match, maybe unsupported
+            if (info.unsupported.empty()) {
+                chosen = int(info.index);
+                break;
+            }
+        }
+        if (chosen < 0) {
+            return Error{concat("--device ", selector, ": no Vulkan device's name contains '",
+                                selector, "'", found)};
+        }
+    }
+    if (!infos[chosen].unsupported.empty()) {
+        return Error{concat("--device ", selector, ": Vulkan device '", infos[chosen].name,
+                            "' lacks ", infos[chosen].unsupported)};
+    }
+    return uint32_t(chosen);
+}
+
+}  // namespace
+
+const char* deviceTypeName(VkPhysicalDeviceType type) {
+    switch (type) {
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return "discrete";
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return "integrated";
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return "virtual";
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return "cpu";
+        default:
+            return "other";
+    }
+}
+
+Expected<std::vector<VulkanDeviceInfo>> listVulkanDevices() {
+    auto instance = createInstance();
+    if (!instance) return instance.error();
+    std::vector<VulkanDeviceInfo> infos = describe(physicalDevices(*instance));
+    vkDestroyInstance(*instance, nullptr);
+    if (infos.empty()) {
+        return Error{
+            "no Vulkan device found (no GPU driver, and no software driver such as Mesa "
+            "lavapipe: mesa-vulkan-drivers)"};
+    }
+    return infos;
+}
+
+Expected<VulkanContext> createContext(const std::string& selector) {
+    auto instance = createInstance();
+    if (!instance) return instance.error();
+    VulkanContext context;
+    context.instance = *instance;
+    const std::vector<VkPhysicalDevice> devices = physicalDevices(context.instance);
+    const std::vector<VulkanDeviceInfo> infos = describe(devices);
+    if (infos.empty()) {
+        destroyContext(context);
+        return Error{
+            "no Vulkan device found (no GPU driver, and no software driver such as Mesa "
+            "lavapipe: mesa-vulkan-drivers)"};
+    }
+    auto chosen = selectDevice(infos, selector);
+    if (!chosen) {
+        destroyContext(context);
+        return chosen.error();
+    }
+    context.physicalDevice = devices[*chosen];
+    checkDevice(context.physicalDevice, context.queueFamily);
+    vkGetPhysicalDeviceProperties(context.physicalDevice, &context.properties);
+    vkGetPhysicalDeviceMemoryProperties(context.physicalDevice, &context.memory);
+
+    const float priority = 1.0f;
+    VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    queueInfo.queueFamilyIndex = context.queueFamily;
+    queueInfo.queueCount = 1;
+    queueInfo.pQueuePriorities = &priority;
+    VkPhysicalDeviceVulkan12Features features12{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    features12.bufferDeviceAddress = VK_TRUE;
+    features12.scalarBlockLayout = VK_TRUE;
+    VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    features.pNext = &features12;
+    features.features.shaderInt64 = VK_TRUE;
+    VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    deviceInfo.pNext = &features;
+    deviceInfo.queueCreateInfoCount = 1;
+    deviceInfo.pQueueCreateInfos = &queueInfo;
+    const VkResult result =
+        vkCreateDevice(context.physicalDevice, &deviceInfo, nullptr, &context.device);
+    if (result != VK_SUCCESS) {
+        destroyContext(context);
+        return Error{concat("cannot create a logical device on '", infos[*chosen].name, "' (",
+                            vkResultName(result), ")")};
+    }
+    vkGetDeviceQueue(context.device, context.queueFamily, 0, &context.queue);
+    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    poolInfo.queueFamilyIndex = context.queueFamily;
+    VK_CHECK(vkCreateCommandPool(context.device, &poolInfo, nullptr, &context.commandPool));
+    return context;
+}
+
+void destroyContext(VulkanContext& context) {
+    if (context.device) {
+        vkDeviceWaitIdle(context.device);
+        if (context.commandPool) vkDestroyCommandPool(context.device, context.commandPool, nullptr);
+        vkDestroyDevice(context.device, nullptr);
+    }
+    if (context.instance) vkDestroyInstance(context.instance, nullptr);
+    context = VulkanContext{};
+}
+
+VkCommandBuffer beginOneShot(const VulkanContext& context) {
+    VkCommandBufferAllocateInfo allocateInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    allocateInfo.commandPool = context.commandPool;
+    allocateInfo.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    allocateInfo.commandBufferCount = 1;
+    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
+    VK_CHECK(vkAllocateCommandBuffers(context.device, &allocateInfo, &commandBuffer));
+    VkCommandBufferBeginInfo beginInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    beginInfo.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(commandBuffer, &beginInfo));
+    return commandBuffer;
+}
+
+void endOneShot(const VulkanContext& context, VkCommandBuffer commandBuffer) {
+    VK_CHECK(vkEndCommandBuffer(commandBuffer));
+    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VkFence fence = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateFence(context.device, &fenceInfo, nullptr, &fence));
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &commandBuffer;
+    VK_CHECK(vkQueueSubmit(context.queue, 1, &submit, fence));
+    VK_CHECK(vkWaitForFences(context.device, 1, &fence, VK_TRUE, UINT64_MAX));
+    vkDestroyFence(context.device, fence, nullptr);
+    vkFreeCommandBuffers(context.device, context.commandPool, 1, &commandBuffer);
+}
+
+}  // namespace daisy

@@ -1,0 +1,45 @@
+#include "vulkan/pipelines.h"
+
+#include "core/check.h"
+#include "vulkan/vk_check.h"
+
+namespace daisy {
+
+ComputePipeline createComputePipeline(const VulkanContext& context, std::span<const uint32_t> spirv,
+                                      uint32_t pushConstantBytes) {
+    DAISY_CHECK(!spirv.empty());
+    DAISY_CHECK_OP(pushConstantBytes, <=, context.properties.limits.maxPushConstantsSize);
+    ComputePipeline result;
+    result.pushConstantBytes = pushConstantBytes;
+
+    VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    moduleInfo.codeSize = spirv.size_bytes();
+    moduleInfo.pCode = spirv.data();
+    VkShaderModule module = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateShaderModule(context.device, &moduleInfo, nullptr, &module));
+
+    const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes};
+    VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    layoutInfo.pushConstantRangeCount = pushConstantBytes > 0 ? 1 : 0;
+    layoutInfo.pPushConstantRanges = &range;
+    VK_CHECK(vkCreatePipelineLayout(context.device, &layoutInfo, nullptr, &result.layout));
+
+    VkComputePipelineCreateInfo pipelineInfo{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    pipelineInfo.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    pipelineInfo.stage.module = module;
+    pipelineInfo.stage.pName = "main";
+    pipelineInfo.layout = result.layout;
+    VK_CHECK(vkCreateComputePipelines(context.device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr,
+                                      &result.pipeline));
+    vkDestroyShaderModule(context.device, module, nullptr);
+    return result;
+}
+
+void destroyComputePipeline(const VulkanContext& context, ComputePipeline& pipeline) {
+    if (pipeline.pipeline) vkDestroyPipeline(context.device, pipeline.pipeline, nullptr);
+    if (pipeline.layout) vkDestroyPipelineLayout(context.device, pipeline.layout, nullptr);
+    pipeline = ComputePipeline{};
+}
+
+}  // namespace daisy

@@ -1,0 +1,31 @@
+#pragma once
+// Compute pipelines from SPIR-V embedded in the binary (STYLE.md rule 5: no runtime paths). The
+// shaders take all their inputs as push constants holding buffer device addresses, so the layout
+// is one push-constant range and no descriptor sets.
+#include <volk.h>
+
+#include <cstdint>
+#include <span>
+#include <string_view>
+
+#include "vulkan/context.h"
+
+namespace daisy {
+
+struct ComputePipeline {
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    uint32_t pushConstantBytes = 0;
+};
+
+// The SPIR-V of shaders/<name>.glsl, e.g. embeddedSpirv("form_factors.comp"), compiled by
+// cmake/Shaders.cmake. Empty when no shader has that name.
+std::span<const uint32_t> embeddedSpirv(std::string_view name);
+
+// A compute pipeline over `spirv` (entry point "main") with a push-constant range of
+// pushConstantBytes (<= maxPushConstantsSize) bytes.
+ComputePipeline createComputePipeline(const VulkanContext& context, std::span<const uint32_t> spirv,
+                                      uint32_t pushConstantBytes);
+void destroyComputePipeline(const VulkanContext& context, ComputePipeline& pipeline);
+
+}  // namespace daisy

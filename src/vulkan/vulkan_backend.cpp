@@ -1,0 +1,227 @@
+// The vulkan backend: uploads the patches and the flat BVH once, then for each batch of pairs
+// from buildFromPairBatches (backend/pair_batches.h) uploads the pairs, runs
+// shaders/form_factors.comp.glsl over them in dispatches short enough for a display watchdog, and
+// downloads the factors. Every buffer stays within the device's maxStorageBufferRange (128 MiB on
+// lavapipe): batches are sized to it, and a scene whose patch or BVH arrays exceed it is refused.
+#include "vulkan/vulkan_backend.h"
+
+#include <algorithm>
+#include <tuple>
+#include <vector>
+
+#include "backend/pair_batches.h"
+#include "core/log.h"
+#include "core/strings.h"
+#include "geometry/flat_bvh.h"
+#include "radiosity/form_factors_internal.h"
+#include "shared/config.h"
+#include "shared/gpu_types.h"
+#include "vulkan/buffers.h"
+#include "vulkan/context.h"
+#include "vulkan/pipelines.h"
+#include "vulkan/vk_check.h"
+
+namespace daisy {
+namespace {
+
+using shared::PairFactors;
+using shared::PairIndex;
+using shared::PairKernelParams;
+
+// Pairs per batch: 16 MiB of pairs and results on the device and in the driver's host batch,
+// large enough that the per-batch upload, submit and download cost is noise next to the kernel.
+constexpr std::size_t kBatchPairs = std::size_t(1) << 20;
+
+// Work units per dispatch, a unit being one shadow segment or one quadrature point of a pair
+// (pairWork). Desktop drivers kill a submission that runs for ~2 s (Windows TDR; Linux amdgpu and
+// i915 job timeouts are longer); software BVH traversal on a mid-range GPU does ~1e8-1e9 units/s,
+// so 2^22 units are ~5-40 ms, leaving two orders of magnitude of margin for slow GPUs and hard
+// pairs (hybrid refinement near shared edges). Lavapipe, which has no watchdog, does ~8e5/s on
+// the 2-core benchmark machine (docs/performance.md), so a dispatch takes it seconds.
+constexpr uint64_t kDispatchWork = uint64_t(1) << 22;
+
+// Estimated work of one pair: its shadow segments plus its quadrature points (4^L on the smaller
+// patch; 1 for nusselt).
+uint64_t pairWork(const FormFactorSettings& settings) {
+    const uint64_t points = settings.method == FormFactorMethod::Nusselt
+        ? 1
+        : uint64_t(1) << (2 * std::clamp(settings.quadratureLevel, 0, 15));
+    return uint64_t(std::max(settings.raysPerPair, 0)) + points;
+}
+
+class VulkanBackend : public Backend {
+public:
+    VulkanBackend(VulkanContext context, const VulkanBackendLimits& limits)
+        : context_(context), limits_(limits) {
+        pipeline_ = createComputePipeline(context_, embeddedSpirv("form_factors.comp"),
+                                          sizeof(PairKernelParams));
+    }
+    ~VulkanBackend() override {
+        destroyComputePipeline(context_, pipeline_);
+        destroyContext(context_);
+    }
+    VulkanBackend(const VulkanBackend&) = delete;
+    VulkanBackend& operator=(const VulkanBackend&) = delete;
+
+    std::string name() const override { return "vulkan"; }
+
+    Expected<FormFactorResult> buildFormFactors(const PatchMesh& mesh,
+                                                const FormFactorSettings& settings) override;
+
+private:
+    // Largest buffer in bytes: the device's maxStorageBufferRange unless a test lowers it.
+    uint64_t bufferLimit() const {
+        const uint64_t device = context_.properties.limits.maxStorageBufferRange;
+        return limits_.storageBufferBytes ? std::min(limits_.storageBufferBytes, device) : device;
+    }
+
+    Expected<VulkanBuffer> uploadArray(const void* data, std::size_t bytes, const char* what,
+                                       std::size_t count);
+
+    VulkanContext context_;
+    VulkanBackendLimits limits_;
+    ComputePipeline pipeline_;
+};
+
+Expected<VulkanBuffer> VulkanBackend::uploadArray(const void* data, std::size_t bytes,
+                                                  const char* what, std::size_t count) {
+    if (bytes > bufferLimit()) {
+        return Error{concat(
+            "the vulkan backend keeps the ", what, " in one storage buffer: ", formatCount(count),
+            " need ", formatBytes(double(bytes)), ", more than this device's limit of ",
+            formatBytes(double(bufferLimit())), " (maxStorageBufferRange on '",
+            context_.properties.deviceName, "'); use a larger --subdivide or --backend cpu")};
+    }
+    // Vulkan buffers cannot be empty; a 1-patch scene still gets 64 bytes.
+    VulkanBuffer buffer = createBuffer(context_, std::max<std::size_t>(bytes, 64));
+    upload(context_, buffer, data, bytes);
+    return buffer;
+}
+
+Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh,
+                                                           const FormFactorSettings& settings) {
+    if (settings.method == FormFactorMethod::Stochastic) {
+        return Error{
+            "--method stochastic is not a pair method: the vulkan backend computes "
+            "riemann, nusselt and hybrid (use --backend cpu for stochastic)"};
+    }
+    const std::vector<shared::PatchGeometry> patches = kernelPatches(mesh);
+    auto built = buildFlatBvh(mesh);
+    if (!built) return built.error();
+    const FlatBvh& bvh = *built;
+    std::vector<VulkanBuffer> owned;
+    const auto release = [&] {
+        for (VulkanBuffer& buffer : owned)
+            destroyBuffer(context_, buffer);
+    };
+    for (const auto& [data, bytes, what, count] :
+         {std::tuple{static_cast<const void*>(patches.data()),
+                     patches.size() * sizeof(shared::PatchGeometry), "patches", patches.size()},
+          std::tuple{static_cast<const void*>(bvh.nodes.data()),
+                     bvh.nodes.size() * sizeof(shared::BvhNode), "BVH nodes", bvh.nodes.size()},
+          std::tuple{static_cast<const void*>(bvh.triangles.data()),
+                     bvh.triangles.size() * sizeof(shared::BvhTriangle), "BVH triangles",
+                     bvh.triangles.size()}}) {
+        auto buffer = uploadArray(data, bytes, what, count);
+        if (!buffer) {
+            release();
+            return buffer.error();
+        }
+        owned.push_back(*buffer);
+    }
+
+    // Batches: pairs and results are 8 bytes each, so both buffers fit the limit.
+    const uint64_t pairLimit = bufferLimit() / std::max(sizeof(PairIndex), sizeof(PairFactors));
+    const std::size_t batchPairs = std::size_t(std::max<uint64_t>(
+        1, std::min<uint64_t>(limits_.batchPairs ? limits_.batchPairs : kBatchPairs, pairLimit)));
+    // Dispatches: kDispatchWork units, whole workgroups, within maxComputeWorkGroupCount[0].
+    const uint64_t groupLimit = uint64_t(context_.properties.limits.maxComputeWorkGroupCount[0]) *
+        DAISY_PAIR_WORKGROUP_SIZE;
+    uint64_t dispatchPairs = limits_.dispatchPairs
+        ? limits_.dispatchPairs
+        : std::max<uint64_t>(DAISY_PAIR_WORKGROUP_SIZE,
+                             kDispatchWork / pairWork(settings) / DAISY_PAIR_WORKGROUP_SIZE *
+                                 DAISY_PAIR_WORKGROUP_SIZE);
+    dispatchPairs = std::min(dispatchPairs, groupLimit);
+
+    VulkanBuffer pairBuffer = createBuffer(context_, batchPairs * sizeof(PairIndex));
+    VulkanBuffer resultBuffer = createBuffer(context_, batchPairs * sizeof(PairFactors));
+    owned.push_back(pairBuffer);
+    owned.push_back(resultBuffer);
+
+    PairKernelParams params{};
+    params.patches = owned[0].address;
+    params.nodes = owned[1].address;
+    params.triangles = owned[2].address;
+    params.pairs = pairBuffer.address;
+    params.results = resultBuffer.address;
+    params.method = detail::methodConstant(settings.method);
+    params.level = settings.quadratureLevel;
+    params.rays = settings.raysPerPair;
+    params.seed = detail::seed32(settings.seed);  // as the cpu and reference backends fold it
+    params.clearance = shadowClearance(mesh);
+
+    const PairEvaluator evaluate = [&](std::span<const PairIndex> pairs,
+                                       std::span<PairFactors> out) -> Expected<void> {
+        upload(context_, pairBuffer, pairs.data(), pairs.size_bytes());
+        for (std::size_t first = 0; first < pairs.size(); first += dispatchPairs) {
+            params.pairOffset = uint32_t(first);
+            params.pairCount = uint32_t(std::min<uint64_t>(dispatchPairs, pairs.size() - first));
+            const uint32_t groups =
+                (params.pairCount + DAISY_PAIR_WORKGROUP_SIZE - 1) / DAISY_PAIR_WORKGROUP_SIZE;
+            // One submission per dispatch: a watchdog sees one short job at a time.
+            submitAndWait(context_, [&](VkCommandBuffer commands) {
+                vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline);
+                vkCmdPushConstants(commands, pipeline_.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                                   sizeof params, &params);
+                vkCmdDispatch(commands, groups, 1, 1);
+                VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+                barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+                barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+                vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                                     VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
+                                     1, &barrier, 0, nullptr, 0, nullptr);
+            });
+        }
+        download(context_, resultBuffer, out.data(), out.size_bytes());
+        return {};
+    };
+    auto result = buildFromPairBatches(mesh, settings, "vulkan", batchPairs, evaluate);
+    release();
+    return result;
+}
+
+}  // namespace
+
+Expected<std::unique_ptr<Backend>> makeVulkanBackend(const BackendOptions& options,
+                                                     const VulkanBackendLimits& limits) {
+    auto context = createContext(options.device);
+    if (!context) return context.error();
+    logVerbose(concat("vulkan: device '", context->properties.deviceName, "' (",
+                      deviceTypeName(context->properties.deviceType), ", Vulkan ",
+                      VK_API_VERSION_MAJOR(context->properties.apiVersion), ".",
+                      VK_API_VERSION_MINOR(context->properties.apiVersion),
+                      "), largest storage buffer ",
+                      formatBytes(double(context->properties.limits.maxStorageBufferRange))));
+    return std::unique_ptr<Backend>(std::make_unique<VulkanBackend>(*context, limits));
+}
+
+Expected<std::unique_ptr<Backend>> makeVulkanBackend(const BackendOptions& options) {
+    return makeVulkanBackend(options, VulkanBackendLimits{});
+}
+
+bool vulkanHardwareGpuPresent() {
+    static const bool present = [] {
+        auto devices = listVulkanDevices();
+        if (!devices) return false;
+        for (const VulkanDeviceInfo& device : *devices) {
+            const bool gpu = device.type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU ||
+                device.type == VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU;
+            if (gpu && device.unsupported.empty()) return true;
+        }
+        return false;
+    }();
+    return present;
+}
+
+}  // namespace daisy
