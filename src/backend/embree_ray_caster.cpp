@@ -8,6 +8,7 @@
 #include <limits>
 #include <vector>
 
+#include "core/check.h"
 #include "core/strings.h"
 
 namespace daisy {
@@ -243,6 +244,38 @@ void EmbreeRayCaster::closestHits(std::span<const Ray> rays, std::span<uint32_t>
         rayHit.hit.primID = RTC_INVALID_GEOMETRY_ID;
         rtcIntersect1(impl_->scene, &context, &rayHit);
         hits[k] = rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID ? kNoPatch : rayHit.hit.primID;
+    }
+}
+
+void EmbreeRayCaster::closestSurfaceHits(std::span<const Ray> rays, std::span<SurfaceHit> hits,
+                                         float tNear) const {
+    DAISY_CHECK(rays.size() == hits.size());
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // callers pass neighbouring pixels
+    for (std::size_t k = 0; k < rays.size(); ++k) {
+        RTCRayHit rayHit;
+        RTCRay& ray = rayHit.ray;
+        ray.org_x = rays[k].origin[0];
+        ray.org_y = rays[k].origin[1];
+        ray.org_z = rays[k].origin[2];
+        ray.dir_x = rays[k].direction[0];
+        ray.dir_y = rays[k].direction[1];
+        ray.dir_z = rays[k].direction[2];
+        ray.tnear = tNear;
+        ray.tfar = std::numeric_limits<float>::infinity();
+        ray.time = 0;
+        ray.mask = 0xffffffffu;
+        ray.id = 0;
+        ray.flags = 0;
+        rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rayHit.hit.primID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(impl_->scene, &context, &rayHit);
+        if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+            hits[k] = {kNoPatch, 0, 0, std::numeric_limits<float>::infinity()};
+        } else {
+            hits[k] = {rayHit.hit.primID, rayHit.hit.u, rayHit.hit.v, ray.tfar};
+        }
     }
 }
 

@@ -15,6 +15,15 @@ namespace daisy {
 // rays (rtcOccluded4/8/16, coherent context), or Embree's stream API (rtcOccluded1M).
 enum class PacketMode { Single, Packet4, Packet8, Packet16, Stream };
 
+// A closest hit with its position on the patch: the hit point is
+// (1 - u - v) * corner0 + u * corner1 + v * corner2 with the patch's corners in PatchMesh order
+// (Embree's barycentrics of the triangle as built), at distance t along the ray (scene units
+// for a unit direction). patch = kNoPatch (u = v = 0, t = infinity) for a miss.
+struct SurfaceHit {
+    uint32_t patch;
+    float u, v, t;
+};
+
 const char* packetModeName(PacketMode mode);
 
 class EmbreeRayCaster final : public RayCaster {
@@ -26,6 +35,10 @@ public:
 
     void occluded(const SegmentArrays& segments, std::span<uint8_t> blocked) const override;
     void closestHits(std::span<const Ray> rays, std::span<uint32_t> hits) const override;
+    // hits[k] = the first patch rays[k] hits at t >= tNear, with its barycentrics (camera rays:
+    // tNear = 0, no self-intersection margin). Thread-safe; rays.size() == hits.size().
+    void closestSurfaceHits(std::span<const Ray> rays, std::span<SurfaceHit> hits,
+                            float tNear = 0) const;
 
     PacketMode packetMode() const;
     void setPacketMode(PacketMode mode);

@@ -10,23 +10,29 @@
 
 namespace daisy {
 
-// "auto" -> nullopt-like automatic; a number -> that EV. Error text for anything else.
+// An exposure setting: automatic, or a fixed number of stops.
 struct Exposure {
     bool automatic = true;
     double ev = 0;  // used when !automatic: pixel scale = 2^ev
 };
+// "auto" (any case) -> automatic; a finite number (e.g. "-1.5") -> that EV. An error naming the
+// text for anything else.
 Expected<Exposure> parseExposure(const std::string& text);
 
 // The scale an automatic exposure applies to an XYZ image (channels 0..2): maps the image's
-// log-average luminance Y of the hit pixels to 0.18 (Reinhard et al. 2002 "key" of a normal
-// scene), limited so that no more than 1% of the pixels clip. 1 for an all-black image.
+// log-average luminance exp(mean(log Y)) to 0.18 (the "key" of a normal scene, Reinhard et al.
+// 2002, eq. 1-2), limited so that no more than 1% of those pixels clip (largest linear sRGB
+// component times the scale above 1). Only pixels with Y > 0 count: background (misses render
+// Y = 0 exactly) and black surfaces would otherwise drag the average to zero. 1 when no pixel
+// has Y > 0.
 double autoExposureScale(const Image& xyz);
 
 // The scale for `exposure` on `xyz`: 2^ev, or autoExposureScale.
 double exposureScale(const Exposure& exposure, const Image& xyz);
 
-// XYZ (3 channels) -> linear sRGB (3 channels), each value times `scale`. Out-of-gamut values
-// are kept (may be negative); the 8-bit conversion clips.
+// XYZ (channels 0..2) -> linear sRGB (3 channels named R, G, B), each value times `scale`, with
+// the IEC 61966-2-1 matrix (spectral/color.h). Out-of-gamut values are kept (may be negative);
+// the 8-bit conversion clips.
 Image xyzToLinearSrgb(const Image& xyz, double scale);
 
 // Linear sRGB (3 channels) -> 8-bit sRGB with the IEC 61966-2-1 transfer curve, clipped to

@@ -122,6 +122,69 @@ double deltaE76(const Lab& a, const Lab& b) {
     return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
 }
 
+double deltaE2000(const Lab& a, const Lab& b) {
+    // Sharma, Wu & Dalal 2005, equations numbered as in the paper; angles in degrees.
+    constexpr double kPi = 3.14159265358979323846;
+    constexpr double kDegree = kPi / 180;
+    constexpr double k25Pow7 = 6103515625.0;  // 25^7
+    const double c1 = std::hypot(a[1], a[2]);  // eq. 2
+    const double c2 = std::hypot(b[1], b[2]);
+    const double cMean7 = std::pow((c1 + c2) / 2, 7);  // eq. 3
+    const double g = 0.5 * (1 - std::sqrt(cMean7 / (cMean7 + k25Pow7)));  // eq. 4
+    const double a1 = (1 + g) * a[1];  // eq. 5
+    const double a2 = (1 + g) * b[1];
+    const double c1p = std::hypot(a1, a[2]);  // eq. 6
+    const double c2p = std::hypot(a2, b[2]);
+    const auto hue = [&](double bValue, double aPrime) {  // eq. 7, in [0, 360)
+        if (bValue == 0 && aPrime == 0) return 0.0;
+        const double h = std::atan2(bValue, aPrime) / kDegree;
+        return h < 0 ? h + 360 : h;
+    };
+    const double h1 = hue(a[2], a1);
+    const double h2 = hue(b[2], a2);
+    const double deltaL = b[0] - a[0];  // eq. 8
+    const double deltaC = c2p - c1p;  // eq. 9
+    const bool achromatic = c1p * c2p == 0;
+    double deltaH = 0;  // eq. 10
+    if (!achromatic) {
+        deltaH = h2 - h1;
+        if (deltaH > 180) deltaH -= 360;
+        if (deltaH < -180) deltaH += 360;
+    }
+    const double deltaHBig = 2 * std::sqrt(c1p * c2p) * std::sin(deltaH * kDegree / 2);  // eq. 11
+    const double lMean = (a[0] + b[0]) / 2;  // eq. 12
+    const double cpMean = (c1p + c2p) / 2;  // eq. 13
+    double hMean = h1 + h2;  // eq. 14
+    if (!achromatic) {
+        if (std::abs(h1 - h2) <= 180) {
+            hMean = (h1 + h2) / 2;
+        } else {
+            hMean = h1 + h2 < 360 ? (h1 + h2 + 360) / 2 : (h1 + h2 - 360) / 2;
+        }
+    }
+    const double t = 1 - 0.17 * std::cos((hMean - 30) * kDegree) +
+        0.24 * std::cos(2 * hMean * kDegree) + 0.32 * std::cos((3 * hMean + 6) * kDegree) -
+        0.20 * std::cos((4 * hMean - 63) * kDegree);  // eq. 15
+    const double deltaTheta = 30 * std::exp(-std::pow((hMean - 275) / 25, 2));  // eq. 16
+    const double cpMean7 = std::pow(cpMean, 7);
+    const double rC = 2 * std::sqrt(cpMean7 / (cpMean7 + k25Pow7));  // eq. 17
+    const double lOffset2 = (lMean - 50) * (lMean - 50);
+    const double sL = 1 + 0.015 * lOffset2 / std::sqrt(20 + lOffset2);  // eq. 18
+    const double sC = 1 + 0.045 * cpMean;  // eq. 19
+    const double sH = 1 + 0.015 * cpMean * t;  // eq. 20
+    const double rT = -std::sin(2 * deltaTheta * kDegree) * rC;  // eq. 21
+    const double l = deltaL / sL;
+    const double c = deltaC / sC;
+    const double h = deltaHBig / sH;
+    return std::sqrt(l * l + c * c + h * h + rT * c * h);  // eq. 22
+}
+
+Lab srgb8ToLab(const std::array<uint8_t, 3>& srgb8) {
+    const Rgb linear{srgbDecode(srgb8[0] / 255.0), srgbDecode(srgb8[1] / 255.0),
+                     srgbDecode(srgb8[2] / 255.0)};
+    return xyzToLab(linearSrgbToXyz(linear), linearSrgbToXyz({1, 1, 1}));
+}
+
 Xyz adaptXyzBradford(const Xyz& xyz, const Xyz& sourceWhite, const Xyz& targetWhite) {
     const std::array<double, 3> source = multiply(kBradford, sourceWhite);
     const std::array<double, 3> target = multiply(kBradford, targetWhite);

@@ -4,6 +4,7 @@
 // a flat emission spectrum of value 1, see wavelength_set.h). No white balance is applied
 // anywhere unless a caller asks for it with adaptXyzBradford().
 #include <array>
+#include <cstdint>
 
 namespace daisy {
 
@@ -43,6 +44,14 @@ Xyz xyToXyz(const std::array<double, 2>& xy, double luminanceY = 1.0);
 Lab xyzToLab(const Xyz& xyz, const Xyz& whiteXyz);
 // CIE 1976 colour difference Delta E*ab: the Euclidean distance in L*a*b*.
 double deltaE76(const Lab& a, const Lab& b);
+// CIEDE2000 colour difference Delta E00 (CIE 142-2001) with k_L = k_C = k_H = 1, implemented
+// as in Sharma, Wu & Dalal 2005, "The CIEDE2000 Color-Difference Formula: Implementation Notes,
+// Supplementary Test Data, and Mathematical Observations", Color Res. Appl. 30(1), eqs. 1-22.
+// Symmetric in its arguments.
+double deltaE2000(const Lab& a, const Lab& b);
+// An 8-bit encoded sRGB colour (IEC 61966-2-1) as L*a*b* relative to the sRGB white (D65, RGB
+// (1, 1, 1)), e.g. for comparing rendered PNG pixels with deltaE2000.
+Lab srgb8ToLab(const std::array<uint8_t, 3>& srgb8);
 
 // Von Kries adaptation in the Bradford cone space (Lam 1985, as in CIECAM97s): maps a colour seen
 // under `sourceWhite` to the corresponding colour under `targetWhite`. Opt-in white balance, e.g.

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace daisy {
 namespace {
 
@@ -78,6 +80,50 @@ TEST(SpectralColor, MatrixInverse) {
         for (int c = 0; c < 3; ++c)
             EXPECT_NEAR(product[r][c], r == c ? 1 : 0, 1e-14);
     }
+}
+
+// Sharma, Wu & Dalal 2005, Table 1 (supplementary CIEDE2000 test data): pairs 1, 4, 7, 9-17, 19,
+// 25, 31 and 34 (L1, a1, b1, L2, a2, b2, Delta E00 as printed to 4 decimals). Pairs 9-16 sit on
+// the hue-angle discontinuities the paper warns about (eqs. 10 and 14).
+TEST(SpectralColor, DeltaE2000MatchesSharmaWuDalalTable1) {
+    struct Pair {
+        Lab a, b;
+        double deltaE;
+    };
+    const Pair pairs[] = {
+        {{50.0000, 2.6772, -79.7751}, {50.0000, 0.0000, -82.7485}, 2.0425},
+        {{50.0000, -1.3802, -84.2814}, {50.0000, 0.0000, -82.7485}, 1.0000},
+        {{50.0000, 0.0000, 0.0000}, {50.0000, -1.0000, 2.0000}, 2.3669},
+        {{50.0000, 2.4900, -0.0010}, {50.0000, -2.4900, 0.0009}, 7.1792},
+        {{50.0000, 2.4900, -0.0010}, {50.0000, -2.4900, 0.0010}, 7.1792},
+        {{50.0000, 2.4900, -0.0010}, {50.0000, -2.4900, 0.0011}, 7.2195},
+        {{50.0000, 2.4900, -0.0010}, {50.0000, -2.4900, 0.0012}, 7.2195},
+        {{50.0000, -0.0010, 2.4900}, {50.0000, 0.0009, -2.4900}, 4.8045},
+        {{50.0000, -0.0010, 2.4900}, {50.0000, 0.0010, -2.4900}, 4.8045},
+        {{50.0000, -0.0010, 2.4900}, {50.0000, 0.0011, -2.4900}, 4.7461},
+        {{50.0000, 2.5000, 0.0000}, {50.0000, 0.0000, -2.5000}, 4.3065},
+        {{50.0000, 2.5000, 0.0000}, {73.0000, 25.0000, -18.0000}, 27.1492},
+        {{50.0000, 2.5000, 0.0000}, {56.0000, -27.0000, -3.0000}, 31.9030},
+        {{60.2574, -34.0099, 36.2677}, {60.4626, -34.1751, 39.4387}, 1.2644},
+        {{90.8027, -2.0831, 1.4410}, {91.1528, -1.6435, 0.0447}, 1.4441},
+        {{2.0776, 0.0795, -1.1350}, {0.9033, -0.0636, -0.5514}, 0.9082},
+    };
+    for (const Pair& pair : pairs) {
+        EXPECT_NEAR(deltaE2000(pair.a, pair.b), pair.deltaE, 5e-5) << pair.a[1] << " " << pair.b[1];
+        EXPECT_NEAR(deltaE2000(pair.b, pair.a), pair.deltaE, 5e-5);
+    }
+    EXPECT_EQ(deltaE2000({40, 30, -20}, {40, 30, -20}), 0);
+}
+
+TEST(SpectralColor, Srgb8ToLabOfWhiteBlackAndGrey) {
+    const Lab white = srgb8ToLab({255, 255, 255});
+    EXPECT_NEAR(white[0], 100, 1e-9);
+    EXPECT_NEAR(white[1], 0, 1e-9);
+    EXPECT_NEAR(white[2], 0, 1e-9);
+    EXPECT_NEAR(srgb8ToLab({0, 0, 0})[0], 0, 1e-12);
+    // 119/255 decodes to linear 0.18447 (IEC 61966-2-1 curve), L* = 116 Y^(1/3) - 16 = 50.03.
+    const double y = std::pow((119 / 255.0 + 0.055) / 1.055, 2.4);
+    EXPECT_NEAR(srgb8ToLab({119, 119, 119})[0], 116 * std::cbrt(y) - 16, 1e-9);
 }
 
 }  // namespace

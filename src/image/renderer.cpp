@@ -1,0 +1,100 @@
+#include "image/renderer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <cmath>
+#include <memory>
+
+#include "backend/embree_ray_caster.h"
+#include "core/check.h"
+#include "core/strings.h"
+#include "image/camera.h"
+
+namespace daisy {
+
+namespace {
+
+// Samples per pixel side: N = ceil(sqrt(spp)), at least 1.
+int samplesPerSide(int samplesPerPixel) {
+    int n = 1;
+    while (n * n < samplesPerPixel)
+        ++n;
+    return n;
+}
+
+}  // namespace
+
+Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
+                                   const RenderSettings& settings, std::span<const float> corners,
+                                   int channels, std::span<const float> background) {
+    DAISY_CHECK(channels > 0);
+    DAISY_CHECK(corners.size() == mesh.patchCount() * 3 * std::size_t(channels));
+    DAISY_CHECK(background.size() == std::size_t(channels));
+    if (settings.width <= 0 || settings.height <= 0 || settings.samplesPerPixel <= 0) {
+        return Error{concat("render: image size ", settings.width, " x ", settings.height, " and ",
+                            settings.samplesPerPixel, " samples per pixel must all be positive")};
+    }
+    auto caster = EmbreeRayCaster::create(mesh);
+    if (!caster) return withContext(caster.error(), "render");
+    const EmbreeRayCaster& tracer = **caster;
+
+    const int side = samplesPerSide(settings.samplesPerPixel);
+    const std::size_t stride = std::size_t(channels);
+    const std::size_t rowSamples = std::size_t(settings.width) * side * side;
+    const double sampleWeight = 1.0 / (double(side) * side);
+    Image image(settings.width, settings.height, channels);
+
+    const auto renderRows = [&](const tbb::blocked_range<int>& rows) {
+        std::vector<Ray> rays(rowSamples);
+        std::vector<SurfaceHit> hits(rowSamples);
+        std::vector<double> sum(stride);
+        for (int y = rows.begin(); y != rows.end(); ++y) {
+            // Sample (i, j) of pixel (x, y) sits at the centre of stratum (i, j) of an N x N
+            // grid over the pixel: a regular, deterministic box-filter supersampling.
+            std::size_t k = 0;
+            for (int x = 0; x < settings.width; ++x) {
+                for (int j = 0; j < side; ++j) {
+                    for (int i = 0; i < side; ++i) {
+                        rays[k++] = primaryRay(camera, settings.width, settings.height,
+                                               x + (i + 0.5) / side, y + (j + 0.5) / side);
+                    }
+                }
+            }
+            tracer.closestSurfaceHits(rays, hits);
+            k = 0;
+            for (int x = 0; x < settings.width; ++x) {
+                std::fill(sum.begin(), sum.end(), 0.0);
+                for (int s = 0; s < side * side; ++s, ++k) {
+                    const SurfaceHit& hit = hits[k];
+                    if (hit.patch == kNoPatch) {
+                        for (std::size_t c = 0; c < stride; ++c)
+                            sum[c] += background[c];
+                        continue;
+                    }
+                    // Embree's barycentrics weight corners 1 and 2; corner 0 takes the rest.
+                    const double w1 = hit.u;
+                    const double w2 = hit.v;
+                    const double w0 = 1 - w1 - w2;
+                    const float* v = corners.data() + std::size_t(hit.patch) * 3 * stride;
+                    for (std::size_t c = 0; c < stride; ++c)
+                        sum[c] += w0 * v[c] + w1 * v[stride + c] + w2 * v[2 * stride + c];
+                }
+                float* out = image.at(x, y);
+                for (std::size_t c = 0; c < stride; ++c)
+                    out[c] = static_cast<float>(sum[c] * sampleWeight);
+            }
+        }
+    };
+    const tbb::blocked_range<int> allRows(0, settings.height, 1);
+    if (settings.threads > 0) {
+        tbb::task_arena arena(settings.threads);
+        arena.execute([&] { tbb::parallel_for(allRows, renderRows); });
+    } else {
+        tbb::parallel_for(allRows, renderRows);
+    }
+    return image;
+}
+
+}  // namespace daisy

@@ -1,0 +1,139 @@
+#include "image/renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "image/camera.h"
+#include "image_test_util.h"
+
+namespace daisy {
+namespace {
+
+// A camera at the origin looking along -z, 60 degree vertical field of view.
+Camera originCamera() {
+    Camera camera;
+    camera.position = {0, 0, 0};
+    camera.forward = {0, 0, -1};
+    camera.up = {0, 1, 0};
+    camera.yFovRad = 1.0471975511965976;
+    return camera;
+}
+
+// The quad z = -1, |x|, |y| <= 4, facing the camera: it fills a 60 degree view.
+PatchMesh bigQuad() {
+    TriangleMesh triangles;
+    test::addQuad(triangles, {-4, -4, -1}, {4, -4, -1}, {4, 4, -1}, {-4, 4, -1});
+    return test::patchesOf(triangles);
+}
+
+TEST(ImageRenderer, ConstantCornersRenderExactlyThatValue) {
+    const PatchMesh mesh = bigQuad();
+    const std::vector<float> value = {0.25f, 3.5f};
+    std::vector<float> corners;
+    for (std::size_t k = 0; k < mesh.patchCount() * 3; ++k)
+        corners.insert(corners.end(), value.begin(), value.end());
+    const std::vector<float> background = {-1, -1};
+    for (int spp : {1, 4, 5}) {
+        RenderSettings settings;
+        settings.width = 33;
+        settings.height = 17;
+        settings.samplesPerPixel = spp;
+        const auto image =
+            renderCornerValues(mesh, originCamera(), settings, corners, 2, background);
+        ASSERT_TRUE(image.ok()) << image.error().message;
+        ASSERT_EQ(image->width, 33);
+        ASSERT_EQ(image->height, 17);
+        ASSERT_EQ(image->channels, 2);
+        for (int y = 0; y < 17; ++y) {
+            for (int x = 0; x < 33; ++x) {
+                ASSERT_EQ(image->at(x, y)[0], 0.25f) << x << " " << y << " spp " << spp;
+                ASSERT_EQ(image->at(x, y)[1], 3.5f) << x << " " << y << " spp " << spp;
+            }
+        }
+    }
+}
+
+TEST(ImageRenderer, MissesTakeTheBackground) {
+    const PatchMesh mesh = bigQuad();
+    std::vector<float> corners(mesh.patchCount() * 3, 7.0f);
+    Camera camera = originCamera();
+    camera.forward = {0, 0, 1};  // looking away from the quad
+    RenderSettings settings;
+    settings.width = 8;
+    settings.height = 6;
+    const std::vector<float> background = {0.5f};
+    const auto image = renderCornerValues(mesh, camera, settings, corners, 1, background);
+    ASSERT_TRUE(image.ok());
+    for (float v : image->pixels)
+        EXPECT_EQ(v, 0.5f);
+    // An empty mesh renders only background.
+    const auto empty = renderCornerValues(PatchMesh{}, originCamera(), settings, {}, 1, background);
+    ASSERT_TRUE(empty.ok()) << empty.error().message;
+    for (float v : empty->pixels)
+        EXPECT_EQ(v, 0.5f);
+}
+
+// Barycentric interpolation reproduces a function linear in position exactly on a planar
+// triangle, so at pixel centres the image equals f(hit point) up to float rounding.
+TEST(ImageRenderer, InterpolatesALinearRampExactly) {
+    const PatchMesh mesh = bigQuad();
+    const auto ramp = [](const Vec3d& p) { return 2.0 + 0.75 * p.x - 0.5 * p.y; };
+    std::vector<float> corners;
+    for (const auto& patch : mesh.patches) {
+        for (uint32_t vertex : patch)
+            corners.push_back(static_cast<float>(ramp(mesh.positions[vertex])));
+    }
+    const Camera camera = originCamera();
+    RenderSettings settings;
+    settings.width = 40;
+    settings.height = 30;
+    const std::vector<float> background = {-100};
+    const auto image = renderCornerValues(mesh, camera, settings, corners, 1, background);
+    ASSERT_TRUE(image.ok());
+    double worst = 0;
+    for (int y = 0; y < settings.height; ++y) {
+        for (int x = 0; x < settings.width; ++x) {
+            const Ray ray = primaryRay(camera, settings.width, settings.height, x + 0.5, y + 0.5);
+            const double t = -1.0 / ray.direction[2];  // the plane z = -1
+            const Vec3d hit(ray.direction[0] * t, ray.direction[1] * t, -1);
+            worst = std::max(worst, std::abs(image->at(x, y)[0] - ramp(hit)));
+        }
+    }
+    EXPECT_LT(worst, 2e-5);
+    // The ramp really varies across the image (the oracle is not trivially constant).
+    EXPECT_GT(image->at(39, 0)[0] - image->at(0, 0)[0], 1.0f);
+    // Row 0 is the top of the image (+y), where -0.5 y makes the ramp lowest.
+    EXPECT_LT(image->at(0, 0)[0] + 0.5f, image->at(0, 29)[0]);
+}
+
+TEST(ImageRenderer, DeterministicAcrossThreadCounts) {
+    const PatchMesh mesh = bigQuad();
+    std::vector<float> corners;
+    for (std::size_t k = 0; k < mesh.patchCount() * 3; ++k)
+        corners.push_back(float(k));
+    const std::vector<float> background = {0};
+    RenderSettings settings;
+    settings.width = 31;
+    settings.height = 23;
+    settings.samplesPerPixel = 9;
+    settings.threads = 1;
+    const auto one = renderCornerValues(mesh, originCamera(), settings, corners, 1, background);
+    settings.threads = 0;
+    const auto all = renderCornerValues(mesh, originCamera(), settings, corners, 1, background);
+    ASSERT_TRUE(one.ok() && all.ok());
+    EXPECT_EQ(one->pixels, all->pixels);
+}
+
+TEST(ImageRenderer, RejectsAnEmptyImage) {
+    RenderSettings settings;
+    settings.width = 0;
+    const std::vector<float> background = {0};
+    EXPECT_FALSE(renderCornerValues(bigQuad(), originCamera(), settings,
+                                    std::vector<float>(2 * 3, 0.0f), 1, background)
+                     .ok());
+}
+
+}  // namespace
+}  // namespace daisy
