@@ -5,6 +5,9 @@ The measured Cornell box (Cornell Program of Computer Graphics, "Cornell Box Dat
 millimetres converted to metres, tabulated reflectances and the light's relative spectrum written
 as DAISY_materials_spectral (DESIGN.md section 10). Every face is wound so its normal points into
 the room: walls face the room's centre, block faces face away from their block's centre.
+The measured light lies in the ceiling's plane (y = 548.8 mm) inside the ceiling quad; so that
+no two surfaces overlap, the ceiling is written as a ring of eight triangles around the light's
+opening (the light's corners are the ring's inner corners, so the two share vertices).
 The RGB fallback colours (for viewers without the extension) are band means of the reflectance
 (R 600-700 nm, G 500-600 nm, B 400-500 nm), not a colorimetric conversion.
 
@@ -53,6 +56,22 @@ def oriented_quad(quad, inside_point, outward):
     return quad
 
 
+def ring(outer, hole, inside_point):
+    """Triangles of quad `outer` minus the quad `hole` inside it (same plane), each wound so
+    its normal points towards inside_point: two triangles between each outer edge and the hole
+    corners nearest its ends."""
+    nearest = [min(hole, key=lambda h: sum((h[i] - o[i]) ** 2 for i in range(3))) for o in outer]
+    triangles = []
+    for k in range(4):
+        o0, o1, h0, h1 = outer[k], outer[(k + 1) % 4], nearest[k], nearest[(k + 1) % 4]
+        for tri in ((o0, o1, h1), (o0, h1, h0)):
+            normal = cross(sub(tri[1], tri[0]), sub(tri[2], tri[0]))
+            if dot(normal, sub(inside_point, tri[0])) < 0:
+                tri = (tri[0], tri[2], tri[1])
+            triangles.append(tri)
+    return triangles
+
+
 def build():
     data = json.loads(SOURCE.read_text())
     surfaces = data["surfaces"]
@@ -88,14 +107,18 @@ def build():
         materials.append(material)
 
     builder = GltfBuilder()
+    light = next(s["quad"] for s in surfaces if s["name"] == "light")
     for surface in surfaces:
         prefix = next((p for p in block_centres if surface["name"].startswith(p)), None)
         if prefix is None:
             quad = oriented_quad(surface["quad"], room_centre, outward=False)
         else:
             quad = oriented_quad(surface["quad"], block_centres[prefix], outward=True)
-        corners = [[c * MM for c in p] for p in quad]
-        positions = [corners[0], corners[1], corners[2], corners[0], corners[2], corners[3]]
+        if surface["name"] == "ceiling":
+            triangles = ring(quad, light, room_centre)
+        else:
+            triangles = [(quad[0], quad[1], quad[2]), (quad[0], quad[2], quad[3])]
+        positions = [[c * MM for c in p] for triangle in triangles for p in triangle]
         builder.add_mesh(surface["name"], positions, material_names.index(surface["material"]))
 
     camera = data["camera"]

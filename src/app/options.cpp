@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <cstdlib>
+
 #include "core/strings.h"
 
 namespace daisy::app {
@@ -110,6 +112,22 @@ uint64_t physicalMemoryBytes() {
     const long pageSize = sysconf(_SC_PAGE_SIZE);
     if (pages <= 0 || pageSize <= 0) return 0;
     return static_cast<uint64_t>(pages) * static_cast<uint64_t>(pageSize);
+}
+
+std::optional<std::array<double, 3>> parseBackground(const std::string& text) {
+    std::array<double, 3> rgb{};
+    std::size_t start = 0;
+    for (int c = 0; c < 3; ++c) {
+        const std::size_t comma = text.find(',', start);
+        if ((c < 2) != (comma != std::string::npos)) return std::nullopt;
+        const std::string part =
+            text.substr(start, comma == std::string::npos ? comma : comma - start);
+        char* end = nullptr;
+        rgb[c] = std::strtod(part.c_str(), &end);
+        if (part.empty() || *end != '\0' || !(rgb[c] >= 0 && rgb[c] <= 1)) return std::nullopt;
+        start = comma + 1;
+    }
+    return rgb;
 }
 
 }  // namespace daisy::app

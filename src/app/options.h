@@ -1,6 +1,7 @@
 #pragma once
 // The options of the `daisy` command line (DESIGN.md section 9), parsed and range-checked by
 // CLI11 before any work starts. Stages that land later read the same structs.
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -44,10 +45,12 @@ struct CommonOptions {
 struct RenderOptions {
     std::string outputPath = "render.png";
     int width = 640;
-    int height = 480;
+    int height = 0;  // 0 = width / the camera's aspect ratio (4:3 when it has none)
     std::string camera;  // name or index; empty = first camera or automatic framing
     int samplesPerPixel = 1;
     std::string exposure = "auto";  // "auto" or a fixed EV
+    bool spectralExr = false;  // .exr: one channel per wavelength sample (Fichet et al. 2021)
+    std::string background = "0,0,0";  // R,G,B of missed rays, linear sRGB in [0, 1]
 };
 
 struct ViewOptions {
@@ -79,6 +82,9 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
 
 // Fills the fields parsed from already-validated text (wavelengthSpec, maxMemoryBytes).
 void finishCommonOptions(CommonOptions& options);
+
+// `--background R,G,B`: three comma-separated numbers in [0, 1]; nullopt for anything else.
+std::optional<std::array<double, 3>> parseBackground(const std::string& text);
 
 // Physical memory of this machine in bytes (0 when unknown).
 uint64_t physicalMemoryBytes();

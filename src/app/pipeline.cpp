@@ -1,6 +1,9 @@
 #include "app/pipeline.h"
 
+#include <chrono>
+
 #include "core/log.h"
+#include "core/progress.h"
 #include "core/strings.h"
 #include "radiosity/matrix_estimate.h"
 
@@ -56,6 +59,96 @@ Expected<FormFactorRun> buildFormFactorsFor(const CommonOptions& options,
     auto result = (*backend)->buildFormFactors(patches, formFactorSettingsFrom(options));
     if (!result) return withContext(result.error(), options.scenePath);
     return FormFactorRun{std::move(*result), (*backend)->name()};
+}
+
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+Expected<SolvedScene> solveScene(const CommonOptions& options, DefaultPatchSize defaultSize,
+                                 const std::function<Expected<void>(const Scene&)>& afterLoad) {
+    SolvedScene out;
+    auto start = std::chrono::steady_clock::now();
+    auto scene = loadSceneLogged(options);
+    if (!scene) return scene.error();
+    out.scene = std::move(*scene);
+    if (afterLoad) {
+        if (auto checked = afterLoad(out.scene); !checked) return checked.error();
+    }
+    auto facts = sceneSpectralFacts(out.scene);
+    if (!facts) return facts.error();
+    out.facts = *facts;
+    auto set =
+        makeWavelengthSet(options.wavelengthSpec, facts->hasUvLights, facts->hasFluorescence);
+    if (!set)
+        return Error{concat("--wavelengths ", options.wavelengths, ": ", set.error().message)};
+    out.wavelengths = std::move(*set);
+    out.loadSeconds = secondsSince(start);
+
+    start = std::chrono::steady_clock::now();
+    if (options.subdivideMaxEdge) {
+        out.maxEdge = *options.subdivideMaxEdge;
+    } else if (defaultSize == DefaultPatchSize::Automatic) {
+        const AutoPatchSize size = chooseAutoPatchSize(out.scene.mesh);
+        out.maxEdge = size.maxEdge;
+        out.automaticPatchSize = true;
+        logVerbose(concat("patches: automatic size --subdivide ", out.maxEdge, " (budget ",
+                          formatCount(size.budget), " patches for ",
+                          formatCount(out.scene.mesh.triangleCount()), " triangles)"));
+    }
+    auto patches = buildPatchesWithin(options, out.scene, out.maxEdge);
+    if (!patches) return patches.error();
+    out.patches = std::move(*patches);
+    auto system = buildRadiositySystem(out.scene, out.patches, out.wavelengths);
+    if (!system) return system.error();
+    out.system = std::move(*system);
+    for (const MaterialOperator& op : out.system.operators)
+        out.fluorescentOperators += !op.isDiagonal;
+    out.meshSeconds = secondsSince(start);
+
+    start = std::chrono::steady_clock::now();
+    auto formFactors = buildFormFactorsFor(options, out.patches);
+    if (!formFactors) return formFactors.error();
+    out.formFactors = std::move(*formFactors);
+    out.viewFactorSeconds = secondsSince(start);
+    const SparseMatrix& f = out.formFactors.result.matrix;
+    logInfo(concat("view factors: ", formatCount(f.nonzeroCount()), " non-zeros in ",
+                   formatDuration(out.formFactors.result.stats.totalSeconds), " on ",
+                   out.formFactors.backendName));
+
+    const WavelengthSet& w = out.wavelengths;
+    logVerbose(concat("wavelengths: ", w.name(), ", ", w.size(), " samples ",
+                      formatNumber(w.wavelengthNm(0)), "..",
+                      formatNumber(w.wavelengthNm(w.size() - 1)), " nm",
+                      facts->hasUvLights && facts->hasFluorescence
+                          ? " (scene has UV lights and fluorescent materials)"
+                          : ""));
+    logVerbose(
+        concat("materials: ", out.scene.materials.size(), " as ", out.system.operators.size(),
+               " distinct re-radiation matrices, ", out.fluorescentOperators, " fluorescent",
+               out.fluorescentOperators ? "" : " (wavelengths solved independently, M diagonal)"));
+
+    start = std::chrono::steady_clock::now();
+    SolverSettings settings;
+    parseSolverKind(options.solver, settings.kind);  // CLI11 checked the name
+    settings.tolerance = options.tolerance;
+    settings.maxIterations = options.maxIterations;
+    settings.threads = options.threads;
+    auto solved = solveRadiosity(f, out.system, settings);
+    if (!solved) return Error{concat(options.scenePath, ": ", solved.error().message)};
+    out.solution = std::move(*solved);
+    out.solveSeconds = secondsSince(start);
+    if (!out.solution.converged) logWarning(concat(options.scenePath, ": ", out.solution.warning));
+    logInfo(concat("solve: ", out.solution.iterations, " iterations, residual ",
+                   formatNumber(out.solution.residual, 3), ", ",
+                   formatNumber(out.solution.seconds, 3), " s (", options.solver, ", ",
+                   formatCount(out.system.patchCount), " patches x ", out.system.wavelengthCount,
+                   " wavelengths", out.fluorescentOperators ? ", fluorescence" : "", ")"));
+    return out;
 }
 
 }  // namespace daisy::app

@@ -9,7 +9,6 @@
 #include "app/commands.h"
 #include "app/pipeline.h"
 #include "core/log.h"
-#include "core/progress.h"
 #include "core/strings.h"
 #include "radiosity/energy.h"
 #include "radiosity/patch_csv.h"
@@ -76,80 +75,21 @@ Expected<void> writeSolvedPatches(const std::string& path, const Scene& scene,
 }  // namespace
 
 int runSolve(const CommonOptions& options, const ExportOptions& exports) {
-    auto scene = loadSceneLogged(options);
-    if (!scene) {
-        logError(scene.error().message);
-        return 2;
-    }
-    auto facts = sceneSpectralFacts(*scene);
-    if (!facts) {
-        logError(facts.error().message);
-        return 2;
-    }
-    auto set =
-        makeWavelengthSet(options.wavelengthSpec, facts->hasUvLights, facts->hasFluorescence);
-    if (!set) {
-        logError(concat("--wavelengths ", options.wavelengths, ": ", set.error().message));
-        return 2;
-    }
-    auto patches = buildPatchesWithin(options, *scene, options.subdivideMaxEdge.value_or(0));
-    if (!patches) {
-        logError(patches.error().message);
-        return 2;
-    }
-    auto system = buildRadiositySystem(*scene, *patches, *set);
-    if (!system) {
-        logError(system.error().message);
-        return 2;
-    }
-    auto formFactors = buildFormFactorsFor(options, *patches);
-    if (!formFactors) {
-        logError(formFactors.error().message);
-        return 2;
-    }
-    const SparseMatrix& f = formFactors->result.matrix;
-    logInfo(concat("view factors: ", formatCount(f.nonzeroCount()), " non-zeros in ",
-                   formatDuration(formFactors->result.stats.totalSeconds), " on ",
-                   formFactors->backendName));
-
-    std::size_t fluorescent = 0;
-    for (const MaterialOperator& op : system->operators)
-        fluorescent += !op.isDiagonal;
-    logVerbose(concat("wavelengths: ", set->name(), ", ", set->size(), " samples ",
-                      formatNumber(set->wavelengthNm(0)), "..",
-                      formatNumber(set->wavelengthNm(set->size() - 1)), " nm",
-                      facts->hasUvLights && facts->hasFluorescence
-                          ? " (scene has UV lights and fluorescent materials)"
-                          : ""));
-    logVerbose(concat("materials: ", scene->materials.size(), " as ", system->operators.size(),
-                      " distinct re-radiation matrices, ", fluorescent, " fluorescent",
-                      fluorescent ? "" : " (wavelengths solved independently, M diagonal)"));
-
-    SolverSettings settings;
-    parseSolverKind(options.solver, settings.kind);  // CLI11 checked the name
-    settings.tolerance = options.tolerance;
-    settings.maxIterations = options.maxIterations;
-    settings.threads = options.threads;
-    auto solved = solveRadiosity(f, *system, settings);
+    auto solved = solveScene(options, DefaultPatchSize::InputTriangles);
     if (!solved) {
-        logError(concat(options.scenePath, ": ", solved.error().message));
+        logError(solved.error().message);
         return 2;
     }
-    if (!solved->converged) logWarning(concat(options.scenePath, ": ", solved->warning));
-    logInfo(concat("solve: ", solved->iterations, " iterations, residual ",
-                   formatNumber(solved->residual, 3), ", ", formatNumber(solved->seconds, 3),
-                   " s (", options.solver, ", ", formatCount(system->patchCount), " patches x ",
-                   system->wavelengthCount, " wavelengths", fluorescent ? ", fluorescence" : "",
-                   ")"));
     if (verbosity() == Verbosity::Verbose) {
-        const std::vector<double> sums = rowSums(f);
-        printEnergy(computeEnergyBalance(*system, sums, solved->radiosity, solved->gathered),
-                    *system);
+        const std::vector<double> sums = rowSums(solved->formFactors.result.matrix);
+        printEnergy(computeEnergyBalance(solved->system, sums, solved->solution.radiosity,
+                                         solved->solution.gathered),
+                    solved->system);
     }
-
     if (!exports.patchesPath.empty()) {
-        if (auto written = writeSolvedPatches(exports.patchesPath, *scene, *patches, *system, *set,
-                                              solved->radiosity);
+        if (auto written =
+                writeSolvedPatches(exports.patchesPath, solved->scene, solved->patches,
+                                   solved->system, solved->wavelengths, solved->solution.radiosity);
             !written) {
             logError(written.error().message);
             return 1;

@@ -47,7 +47,7 @@ TEST(SolveCli, PrintsTheSummaryAndWritesThePatchTable) {
         const std::string y = row.substr(row.rfind(',', row.rfind(',') - 1) + 1);
         someLit = someLit || std::stod(y) > 0;
     }
-    EXPECT_EQ(rows, 32);
+    EXPECT_EQ(rows, 38);
     EXPECT_TRUE(someLit);
 }
 
