@@ -1,6 +1,7 @@
 // Micro-benchmarks of the view-factor build (Google Benchmark; not in ctest): the shared
-// per-pair kernels, the sample generator, and Embree occlusion rays in each packet mode on the
-// benchmark scene assets/scenes/blacklight_box.gltf. Run:
+// per-pair kernels (pairs/s), the sample generator, Embree occlusion rays in each packet mode
+// (rays/s), and the two BVH builds (Embree's scene, our flat BVH; patches/s) on the benchmark
+// scene assets/scenes/blacklight_box.gltf. Run:
 //   cmake --build build --target daisy_microbench && build/daisy_microbench
 // Results and the commands are recorded in docs/performance.md.
 #include <benchmark/benchmark.h>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "backend/embree_ray_caster.h"
+#include "geometry/flat_bvh.h"
 #include "geometry/patch_mesh.h"
 #include "radiosity/visibility_samples.h"
 #include "scene/load_scene.h"
@@ -65,6 +67,8 @@ void BM_FacingAway(benchmark::State& state) {
         const auto& [i, j] = s.facingPairs[k++ & 4095];
         benchmark::DoNotOptimize(shared::facingAway(s.geometry[i], s.geometry[j ^ 1]));
     }
+    state.counters["pairs/s"] =
+        benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_FacingAway);
 
@@ -77,6 +81,8 @@ void BM_PairFactors(benchmark::State& state) {
         const auto& [i, j] = s.facingPairs[k++ & 4095];
         benchmark::DoNotOptimize(shared::pairFactors(method, level, s.geometry[i], s.geometry[j]));
     }
+    state.counters["pairs/s"] =
+        benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_PairFactors)
     ->ArgNames({"method", "L"})
@@ -139,6 +145,8 @@ void BM_EmbreeOccluded(benchmark::State& state) {
         benchmark::DoNotOptimize(blocked.data());
     }
     state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(segments.size()));
+    state.counters["rays/s"] = benchmark::Counter(
+        double(state.iterations()) * double(segments.size()), benchmark::Counter::kIsRate);
     state.SetLabel(packetModeName(mode));
 }
 BENCHMARK(BM_EmbreeOccluded)
@@ -148,6 +156,38 @@ BENCHMARK(BM_EmbreeOccluded)
     ->Arg(int(PacketMode::Packet16))
     ->Arg(int(PacketMode::Stream))
     ->Unit(benchmark::kMillisecond);
+
+// Embree scene build (rtcCommitScene, high-quality BVH) of the whole scene, one thread pool.
+void BM_EmbreeBuild(benchmark::State& state) {
+    const BenchScene& s = benchScene();
+    for (auto _ : state) {
+        auto caster = EmbreeRayCaster::create(s.mesh);
+        if (!caster) {
+            state.SkipWithError(caster.error().message.c_str());
+            return;
+        }
+        benchmark::DoNotOptimize(caster->get());
+    }
+    state.counters["patches/s"] = benchmark::Counter(
+        double(state.iterations()) * double(s.mesh.patchCount()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_EmbreeBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The flat BVH of the reference and GPU backends (geometry/flat_bvh.h): build and flatten.
+void BM_FlatBvhBuild(benchmark::State& state) {
+    const BenchScene& s = benchScene();
+    for (auto _ : state) {
+        auto bvh = buildFlatBvh(s.mesh);
+        if (!bvh) {
+            state.SkipWithError(bvh.error().message.c_str());
+            return;
+        }
+        benchmark::DoNotOptimize(bvh->nodes.data());
+    }
+    state.counters["patches/s"] = benchmark::Counter(
+        double(state.iterations()) * double(s.mesh.patchCount()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_FlatBvhBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace daisy
