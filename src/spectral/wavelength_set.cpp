@@ -170,23 +170,26 @@ WavelengthSet withUvExcitation(const WavelengthSet& base, bool sceneHasUvLights,
 
 Expected<WavelengthSet> makeWavelengthSet(const WavelengthSpec& spec, bool sceneHasUvLights,
                                           bool sceneHasFluorescence) {
+    const auto withUv = [&](const WavelengthSet& base) {
+        return withUvExcitation(base, sceneHasUvLights, sceneHasFluorescence);
+    };
     switch (spec.kind) {
-        case WavelengthSpec::Kind::Range:
-            return WavelengthSet::fromWavelengths(
+        case WavelengthSpec::Kind::Range: {
+            auto set = WavelengthSet::fromWavelengths(
                 rangeNm(spec.startNm, spec.endNm, spec.stepNm),
                 concat(spec.startNm, ':', spec.endNm, ':', spec.stepNm));
+            if (!set) return set.error();
+            return withUv(*set);
+        }
         case WavelengthSpec::Kind::List:
             return WavelengthSet::fromWavelengths(spec.listNm, "list");
         case WavelengthSpec::Kind::Preset:
             break;
     }
-    if (spec.preset == "daisyriot") return daisyriotWavelengths();
-    if (spec.preset == "meyer4") return meyer4Wavelengths();
-    if (spec.preset == "visible") return visibleWavelengths();
-    if (spec.preset == "fine") return fineWavelengths();
-    if (spec.preset == "auto") {
-        return withUvExcitation(visibleWavelengths(), sceneHasUvLights, sceneHasFluorescence);
-    }
+    if (spec.preset == "daisyriot") return withUv(daisyriotWavelengths());
+    if (spec.preset == "meyer4") return withUv(meyer4Wavelengths());
+    if (spec.preset == "visible" || spec.preset == "auto") return withUv(visibleWavelengths());
+    if (spec.preset == "fine") return withUv(fineWavelengths());
     return Error{concat("unknown wavelength preset '", spec.preset,
                         "'; known: daisyriot, meyer4, visible, fine, auto")};
 }

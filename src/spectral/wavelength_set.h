@@ -81,19 +81,20 @@ WavelengthSet meyer4Wavelengths();
 WavelengthSet visibleWavelengths();
 WavelengthSet fineWavelengths();
 
-// UV excitation samples `auto` may add, nm: they cover UV-A (315-400 nm), where black lights
-// emit and optical brighteners absorb.
+// UV excitation samples presets and ranges may add, nm: they cover UV-A (315-400 nm), where black
+// lights emit and optical brighteners absorb.
 inline constexpr std::array<double, 4> kUvExcitationNm = {320, 340, 360, 380};
 
-// The `auto` rule: `base` plus the kUvExcitationNm samples that lie more than 10 nm below its
+// The UV rule: `base` plus the kUvExcitationNm samples that lie more than 10 nm below its
 // first sample, only when the scene has both UV-emitting lights (see isUvEmitting in
 // spectrum.h) and fluorescent materials; otherwise `base` unchanged. The caller decides the two
 // facts; this module does not look at scenes.
 WavelengthSet withUvExcitation(const WavelengthSet& base, bool sceneHasUvLights,
                                bool sceneHasFluorescence);
 
-// The set a --wavelengths value names. "auto" is the visible preset passed through
-// withUvExcitation with the two scene facts; every other spec ignores them.
+// The set a --wavelengths value names. Presets and ranges pass through withUvExcitation with the
+// two scene facts, so a black-light scene keeps its fluorescence at any sample density; an
+// explicit list is used exactly as given. "auto" is the visible preset.
 Expected<WavelengthSet> makeWavelengthSet(const WavelengthSpec& spec, bool sceneHasUvLights = false,
                                           bool sceneHasFluorescence = false);
 

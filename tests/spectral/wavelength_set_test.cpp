@@ -113,7 +113,7 @@ TEST(WavelengthSet, FromSpec) {
     }
 }
 
-TEST(WavelengthSet, AutoAddsUvOnlyWhenBothFactsHold) {
+TEST(WavelengthSet, UvIsAddedOnlyWhenBothFactsHold) {
     const WavelengthSpec spec = *parseWavelengthSpec("auto");
     for (bool uv : {false, true}) {
         for (bool fluorescent : {false, true}) {
@@ -134,8 +134,11 @@ TEST(WavelengthSet, AutoAddsUvOnlyWhenBothFactsHold) {
     EXPECT_EQ(withUv.wavelengthsNm().front(), 320);
     EXPECT_EQ(withUv.size(), 8u);
     EXPECT_EQ(withUvExcitation(fineWavelengths(), true, true).size(), 97u);
-    // A spec other than auto ignores the scene facts.
-    EXPECT_EQ(makeWavelengthSet(*parseWavelengthSpec("fine"), true, true)->size(), 95u);
+    // Presets and ranges follow the same rule; an explicit list is exact.
+    EXPECT_EQ(makeWavelengthSet(*parseWavelengthSpec("fine"), true, true)->size(), 97u);
+    EXPECT_EQ(makeWavelengthSet(*parseWavelengthSpec("fine"), true, false)->size(), 95u);
+    EXPECT_EQ(makeWavelengthSet(*parseWavelengthSpec("400:700:10"), true, true)->size(), 35u);
+    EXPECT_EQ(makeWavelengthSet(*parseWavelengthSpec("450,550,650"), true, true)->size(), 3u);
 }
 
 TEST(WavelengthSet, RefusesBadWavelengths) {
