@@ -3,7 +3,6 @@
 // per-patch radiance L = B / pi -> CIE XYZ (and every wavelength sample for --spectral-exr) ->
 // smooth per-corner values -> a ray-cast image -> exposure -> the file, and a closing summary:
 // the time of each stage, the solve, peak memory and what was skipped.
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -16,6 +15,7 @@
 #include "app/commands.h"
 #include "app/pipeline.h"
 #include "core/log.h"
+#include "core/memory.h"
 #include "core/progress.h"
 #include "core/strings.h"
 #include "image/camera.h"
@@ -38,13 +38,6 @@ ImageFormat formatOf(const std::string& path) {
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// Peak resident memory of this process in bytes (getrusage: kilobytes on Linux).
-double peakMemoryBytes() {
-    rusage usage{};
-    getrusage(RUSAGE_SELF, &usage);
-    return 1024.0 * static_cast<double>(usage.ru_maxrss);
 }
 
 std::string percentOf(uint64_t part, uint64_t whole) {
@@ -260,7 +253,7 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
         s.solution.iterations, " iterations, residual ", formatNumber(s.solution.residual, 3),
         s.solution.converged ? "" : " (not converged)"));
     logInfo(concat("  ", skippedSummary(s)));
-    logInfo(concat("  peak memory: ", formatBytes(peakMemoryBytes())));
+    logInfo(concat("  peak memory: ", formatBytes(double(peakResidentBytes()))));
     return 0;
 }
 

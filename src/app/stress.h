@@ -30,7 +30,7 @@ struct StressSettings {
     int threads = 0;  // 0 = all hardware threads
 };
 
-// Runs every case on every backend makeBackend builds here (cpu, and reference once it lands),
+// Runs every case on every backend makeBackend builds here (cpu, reference, vulkan with a device),
 // calling `onRow` as each row is finished (for a live table). Deterministic for fixed settings.
 std::vector<StressRow> runStressSuite(const StressSettings& settings,
                                       const std::function<void(const StressRow&)>& onRow);

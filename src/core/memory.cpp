@@ -1,0 +1,31 @@
+#include "core/memory.h"
+
+#include <cstdio>
+#include <cstring>
+
+namespace daisy {
+
+uint64_t peakResidentBytes() {
+    std::FILE* file = std::fopen("/proc/self/status", "r");
+    if (!file) return 0;
+    char line[256];
+    uint64_t kib = 0;
+    while (std::fgets(line, sizeof line, file)) {
+        unsigned long long value = 0;
+        if (std::sscanf(line, "VmHWM: %llu kB", &value) == 1) {
+            kib = value;
+            break;
+        }
+    }
+    std::fclose(file);
+    return kib * 1024;
+}
+
+bool resetPeakResidentBytes() {
+    std::FILE* file = std::fopen("/proc/self/clear_refs", "w");
+    if (!file) return false;
+    const bool written = std::fputs("5", file) >= 0;
+    return std::fclose(file) == 0 && written;
+}
+
+}  // namespace daisy
