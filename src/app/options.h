@@ -19,7 +19,9 @@ struct CommonOptions {
     std::string device;  // --device: GPU index or part of its name; empty = first suitable
     std::string method = "hybrid";  // hybrid | riemann | nusselt | stochastic
     int quadratureLevel = 1;  // L: 4^L points per patch
-    int raysPerPair = 16;  // K shadow rays per pair; 0 = no visibility test
+    // K shadow rays per pair; 0 = no visibility test. 4, not the library's 16: chosen by
+    // `daisy bench` (docs/performance.md, "Choosing the defaults").
+    int raysPerPair = 4;
     int stochasticRays = 1024;  // N rays per patch for --method stochastic
     // --subdivide: scene units; 0 = keep the input triangles; unset = `render` and `view` choose
     // a patch size from the scene (geometry/auto_patch_size.h), other commands keep the triangles

@@ -152,6 +152,10 @@ WavelengthSet visibleWavelengths() {
     return mustBuild(rangeNm(400, 700, 20), "visible");
 }
 
+WavelengthSet autoWavelengths() {
+    return mustBuild(rangeNm(400, 700, 10), "400:700:10");
+}
+
 WavelengthSet fineWavelengths() {
     return mustBuild(rangeNm(360, 830, 5), "fine");
 }
@@ -188,7 +192,8 @@ Expected<WavelengthSet> makeWavelengthSet(const WavelengthSpec& spec, bool scene
     }
     if (spec.preset == "daisyriot") return withUv(daisyriotWavelengths());
     if (spec.preset == "meyer4") return withUv(meyer4Wavelengths());
-    if (spec.preset == "visible" || spec.preset == "auto") return withUv(visibleWavelengths());
+    if (spec.preset == "visible") return withUv(visibleWavelengths());
+    if (spec.preset == "auto") return withUv(autoWavelengths());
     if (spec.preset == "fine") return withUv(fineWavelengths());
     return Error{concat("unknown wavelength preset '", spec.preset,
                         "'; known: daisyriot, meyer4, visible, fine, auto")};

@@ -120,12 +120,14 @@ TEST(WavelengthSet, UvIsAddedOnlyWhenBothFactsHold) {
             auto set = makeWavelengthSet(spec, uv, fluorescent);
             ASSERT_TRUE(set);
             if (uv && fluorescent) {
-                EXPECT_EQ(set->size(), visibleWavelengths().size() + 4);
+                EXPECT_EQ(set->size(), 31u + 4);
                 EXPECT_DOUBLE_EQ(set->wavelengthNm(0), 320);
                 EXPECT_DOUBLE_EQ(set->wavelengthNm(4), 400);
-                EXPECT_EQ(set->name(), "visible+uv");
+                EXPECT_DOUBLE_EQ(set->wavelengthNm(5), 410);
+                EXPECT_EQ(set->name(), "400:700:10+uv");
             } else {
-                EXPECT_EQ(set->wavelengthsNm(), visibleWavelengths().wavelengthsNm());
+                EXPECT_EQ(set->wavelengthsNm(), autoWavelengths().wavelengthsNm());
+                EXPECT_EQ(set->size(), 31u);
             }
         }
     }
