@@ -45,17 +45,14 @@ void printVerboseStats(const FormFactorStats& s) {
 }  // namespace
 
 int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
-    auto scene = loadSceneLogged(options);
-    if (!scene) {
-        logError(scene.error().message);
+    auto loaded = loadScenePatches(options);
+    if (!loaded) {
+        logError(loaded.error().message);
         return 2;
     }
-    auto patches = buildPatchesWithin(options, *scene, options.subdivideMaxEdge.value_or(0));
-    if (!patches) {
-        logError(patches.error().message);
-        return 2;
-    }
-    auto run = buildFormFactorsFor(options, *patches);
+    const Scene& scene = loaded->scene;
+    const PatchMesh& patches = loaded->patches;
+    auto run = buildFormFactorsFor(options, patches);
     if (!run) {
         logError(run.error().message);
         return 2;
@@ -78,9 +75,9 @@ int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
     }
     if (!exports.patchesPath.empty()) {
         std::vector<std::string> names;
-        for (const Material& material : scene->materials)
+        for (const Material& material : scene.materials)
             names.push_back(material.name);
-        if (auto written = writePatchCsv(exports.patchesPath, *patches, names); !written) {
+        if (auto written = writePatchCsv(exports.patchesPath, patches, names); !written) {
             logError(written.error().message);
             return 1;
         }

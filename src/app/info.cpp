@@ -40,43 +40,40 @@ std::string cameraList(const Scene& scene) {
 }  // namespace
 
 int runInfo(const CommonOptions& options) {
-    auto scene = loadSceneLogged(options);
-    if (!scene) {
-        logError(scene.error().message);
+    auto loaded = loadScenePatches(options);
+    if (!loaded) {
+        logError(loaded.error().message);
         return 2;
     }
-    const TriangleMesh& mesh = scene->mesh;
+    const Scene& scene = loaded->scene;
+    const PatchMesh& patches = loaded->patches;
+    const TriangleMesh& mesh = scene.mesh;
     const uint64_t patchEstimate = estimatePatchCount(mesh, options.subdivideMaxEdge.value_or(0));
-    auto patches = buildPatchesWithin(options, *scene, options.subdivideMaxEdge.value_or(0));
-    if (!patches) {
-        logError(patches.error().message);
-        return 2;
-    }
-    const MatrixEstimate matrix = estimateMatrixMemory(*patches);
+    const MatrixEstimate matrix = estimateMatrixMemory(patches);
     const Bounds3d bounds = meshBounds(mesh);
 
     std::size_t emissive = 0, fluorescent = 0;
-    for (const Material& material : scene->materials) {
+    for (const Material& material : scene.materials) {
         emissive += material.isEmissive();
         fluorescent += material.isFluorescent();
     }
 
-    printRow("scene", scene->path);
+    printRow("scene", scene.path);
     printRow("triangles",
              concat(mesh.triangleCount(),
-                    scene->degenerateDropped
-                        ? concat(" (", scene->degenerateDropped, " degenerate dropped)")
+                    scene.degenerateDropped
+                        ? concat(" (", scene.degenerateDropped, " degenerate dropped)")
                         : std::string()));
     printRow("patches",
              options.subdivideMaxEdge.value_or(0) > 0
-                 ? concat(formatCount(patches->patchCount()), " (subdivided to edges <= ",
+                 ? concat(formatCount(patches.patchCount()), " (subdivided to edges <= ",
                           *options.subdivideMaxEdge, "; bound ", formatCount(patchEstimate), ")")
-                 : concat(formatCount(patches->patchCount()), " (no subdivision)"));
-    printRow("vertices", concat(formatCount(patches->vertexCount()), " (welded)"));
+                 : concat(formatCount(patches.patchCount()), " (no subdivision)"));
+    printRow("vertices", concat(formatCount(patches.vertexCount()), " (welded)"));
     printRow("materials",
-             concat(scene->materials.size(), ": ", emissive, " emissive, ", fluorescent,
-                    " fluorescent", materialList(*scene)));
-    printRow("cameras", concat(scene->cameras.size(), ": ", cameraList(*scene)));
+             concat(scene.materials.size(), ": ", emissive, " emissive, ", fluorescent,
+                    " fluorescent", materialList(scene)));
+    printRow("cameras", concat(scene.cameras.size(), ": ", cameraList(scene)));
     printRow("bounds", concat(point(bounds.lo), " .. ", point(bounds.hi)));
     printRow("total area", concat(formatNumber(meshArea(mesh), 6), " square scene units"));
     printRow("matrix",

@@ -40,6 +40,14 @@ Expected<PatchMesh> buildPatchesWithin(const CommonOptions& options, const Scene
     return patches;
 }
 
+Expected<ScenePatches> loadScenePatches(const CommonOptions& options) {
+    auto scene = loadSceneLogged(options);
+    if (!scene) return scene.error();
+    auto patches = buildPatchesWithin(options, *scene, options.subdivideMaxEdge.value_or(0));
+    if (!patches) return patches.error();
+    return ScenePatches{std::move(*scene), std::move(*patches)};
+}
+
 Expected<FormFactorRun> buildFormFactorsFor(const CommonOptions& options,
                                             const PatchMesh& patches) {
     const MatrixEstimate estimate = estimateMatrixMemory(patches);

@@ -30,6 +30,14 @@ Expected<Scene> loadSceneLogged(const CommonOptions& options);
 Expected<PatchMesh> buildPatchesWithin(const CommonOptions& options, const Scene& scene,
                                        double maxEdge);
 
+// The scene and its patches at --subdivide (the input triangles when it is not given): what
+// `info`, `formfactors` and `validate` start from.
+struct ScenePatches {
+    Scene scene;
+    PatchMesh patches;
+};
+Expected<ScenePatches> loadScenePatches(const CommonOptions& options);
+
 struct FormFactorRun {
     FormFactorResult result;
     std::string backendName;

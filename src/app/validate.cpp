@@ -104,17 +104,13 @@ std::string place(const EntryDifference& d) {
 }  // namespace
 
 int runValidate(const CommonOptions& options, const ValidateOptions& validate) {
-    auto scene = loadSceneLogged(options);
-    if (!scene) {
-        logError(scene.error().message);
+    auto loaded = loadScenePatches(options);
+    if (!loaded) {
+        logError(loaded.error().message);
         return 2;
     }
-    auto patches = buildPatchesWithin(options, *scene, options.subdivideMaxEdge.value_or(0));
-    if (!patches) {
-        logError(patches.error().message);
-        return 2;
-    }
-    auto tested = buildFormFactorsFor(options, *patches);
+    const PatchMesh& patches = loaded->patches;
+    auto tested = buildFormFactorsFor(options, patches);
     if (!tested) {
         logError(tested.error().message);
         return 2;
@@ -122,7 +118,7 @@ int runValidate(const CommonOptions& options, const ValidateOptions& validate) {
     CommonOptions againstOptions = options;
     againstOptions.backend = validate.against;
     againstOptions.device.clear();
-    auto against = buildFormFactorsFor(againstOptions, *patches);
+    auto against = buildFormFactorsFor(againstOptions, patches);
     if (!against) {
         logError(against.error().message);
         return 2;

@@ -20,34 +20,13 @@
 namespace daisy {
 namespace {
 
+using test::groupFactor;
+using test::parallelSquares;
+using test::perpendicularSquares;
+
 constexpr double kHowellC11 = 0.199824895698;
 constexpr double kHowellC11Distance2 = 0.0685895888185526;
 constexpr double kHowellC14 = 0.200043776075;
-
-double groupFactor(const PatchMesh& mesh, const SparseMatrix& f, uint32_t a0, uint32_t a1,
-                   uint32_t b0, uint32_t b1) {
-    double flux = 0, area = 0;
-    for (uint32_t i = a0; i < a1; ++i) {
-        area += mesh.areas[i];
-        for (uint32_t j = b0; j < b1; ++j)
-            flux += mesh.areas[i] * f.at(i, j);
-    }
-    return flux / area;
-}
-
-PatchMesh parallelSquares(int n, double distance) {
-    TriangleMesh mesh;
-    test::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, n, n);
-    test::addGrid(mesh, {0, 0, distance}, {0, 1, 0}, {1, 0, 0}, n, n);
-    return test::patchesOf(mesh);
-}
-
-PatchMesh perpendicularSquares(int n) {
-    TriangleMesh mesh;
-    test::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, n, n);
-    test::addGrid(mesh, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, n, n);
-    return test::patchesOf(mesh);
-}
 
 // Parallel 8 x 8 squares at distance 2 with a plate at z = 1 covering x < 0.5 (two triangles,
 // patches 256 and 257). The reflection x -> 1 - x swaps blocked and open segments and preserves

@@ -5,6 +5,7 @@
 
 #include "geometry/mesh.h"
 #include "geometry/patch_mesh.h"
+#include "radiosity/sparse_matrix.h"
 
 namespace daisy::test {
 
@@ -42,6 +43,36 @@ inline TriangleMesh unitCubeRoom(int n) {
 
 inline PatchMesh patchesOf(const TriangleMesh& mesh) {
     return std::move(buildPatchMesh(mesh, 0).value());
+}
+
+// Unit squares at z = 0 (facing +z) and z = distance (facing -z), n x n quads each (Howell
+// C-11 at distance 1: 0.199824895698).
+inline PatchMesh parallelSquares(int n, double distance = 1) {
+    TriangleMesh mesh;
+    addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, n, n);
+    addGrid(mesh, {0, 0, distance}, {0, 1, 0}, {1, 0, 0}, n, n);
+    return patchesOf(mesh);
+}
+
+// Unit squares z = 0 (facing +z) and x = 0 (facing +x) sharing the edge x = z = 0 (Howell
+// C-14: 0.200043776075).
+inline PatchMesh perpendicularSquares(int n) {
+    TriangleMesh mesh;
+    addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, n, n);
+    addGrid(mesh, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, n, n);
+    return patchesOf(mesh);
+}
+
+// Area-weighted factor from the patch range [a0, a1) to [b0, b1): F_AB = sum A_i F_ij / A_A.
+inline double groupFactor(const PatchMesh& mesh, const SparseMatrix& f, uint32_t a0, uint32_t a1,
+                          uint32_t b0, uint32_t b1) {
+    double flux = 0, area = 0;
+    for (uint32_t i = a0; i < a1; ++i) {
+        area += mesh.areas[i];
+        for (uint32_t j = b0; j < b1; ++j)
+            flux += mesh.areas[i] * f.at(i, j);
+    }
+    return flux / area;
 }
 
 }  // namespace daisy::test

@@ -19,6 +19,10 @@
 namespace daisy {
 namespace {
 
+using test::groupFactor;
+using test::parallelSquares;
+using test::perpendicularSquares;
+
 constexpr double kHowellC11 = 0.199824895698;
 constexpr double kHowellC14 = 0.200043776075;
 
@@ -29,34 +33,6 @@ FormFactorResult build(const PatchMesh& mesh, FormFactorSettings settings) {
     auto result = computeFormFactors(mesh, settings, **caster);
     EXPECT_TRUE(result.ok()) << (result.ok() ? "" : result.error().message);
     return std::move(*result);
-}
-
-// Area-weighted factor from the patch range [a0, a1) to [b0, b1): F_AB = sum A_i F_ij / A_A.
-double groupFactor(const PatchMesh& mesh, const SparseMatrix& f, uint32_t a0, uint32_t a1,
-                   uint32_t b0, uint32_t b1) {
-    double flux = 0, area = 0;
-    for (uint32_t i = a0; i < a1; ++i) {
-        area += mesh.areas[i];
-        for (uint32_t j = b0; j < b1; ++j)
-            flux += mesh.areas[i] * f.at(i, j);
-    }
-    return flux / area;
-}
-
-// Unit squares at z = 0 (facing +z) and z = 1 (facing -z), n x n quads each.
-PatchMesh parallelSquares(int n) {
-    TriangleMesh mesh;
-    test::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, n, n);
-    test::addGrid(mesh, {0, 0, 1}, {0, 1, 0}, {1, 0, 0}, n, n);
-    return test::patchesOf(mesh);
-}
-
-// Unit squares z = 0 (facing +z) and x = 0 (facing +x) sharing the edge x = z = 0.
-PatchMesh perpendicularSquares(int n) {
-    TriangleMesh mesh;
-    test::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, n, n);
-    test::addGrid(mesh, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, n, n);
-    return test::patchesOf(mesh);
 }
 
 double halfToHalf(const PatchMesh& mesh, const SparseMatrix& f) {

@@ -24,6 +24,8 @@
 namespace daisy {
 namespace {
 
+using test::perpendicularSquares;
+
 #ifdef DAISY_HAVE_VULKAN
 
 // Howell's catalogue, C-11 (parallel unit squares 1 apart) and C-14 (perpendicular unit squares
@@ -34,17 +36,11 @@ constexpr double kHowellC14 = 0.200044;
 // Unit squares at z = 0 (facing +z) and z = 1 (facing -z), n x n quads each; with `blocker`, a
 // 0.5 x 0.5 two-sided-opaque square at z = 0.5 in the middle (facing +z).
 PatchMesh parallelSquares(int n, bool blocker) {
+    if (!blocker) return test::parallelSquares(n);
     TriangleMesh mesh;
     test::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, n, n);
     test::addGrid(mesh, {0, 0, 1}, {0, 1, 0}, {1, 0, 0}, n, n);
-    if (blocker) test::addGrid(mesh, {0.25, 0.25, 0.5}, {0.5, 0, 0}, {0, 0.5, 0}, 1, 1);
-    return test::patchesOf(mesh);
-}
-
-PatchMesh perpendicularSquares(int n) {
-    TriangleMesh mesh;
-    test::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, n, n);
-    test::addGrid(mesh, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, n, n);
+    test::addGrid(mesh, {0.25, 0.25, 0.5}, {0.5, 0, 0}, {0, 0.5, 0}, 1, 1);
     return test::patchesOf(mesh);
 }
 
@@ -56,13 +52,7 @@ PatchMesh cornellBox() {
 
 // Area-weighted factor from patches [0, n/2) to [n/2, 2 n/2) (the first square to the second).
 double firstToSecond(const PatchMesh& mesh, const SparseMatrix& f, uint32_t half) {
-    double flux = 0, area = 0;
-    for (uint32_t i = 0; i < half; ++i) {
-        area += mesh.areas[i];
-        for (uint32_t j = half; j < 2 * half; ++j)
-            flux += mesh.areas[i] * f.at(i, j);
-    }
-    return flux / area;
+    return test::groupFactor(mesh, f, 0, half, half, 2 * half);
 }
 
 // Entries of either matrix farther apart than rtol max(|a|, |b|) + 1e-7 (counted; the first five
