@@ -222,26 +222,32 @@ void EmbreeRayCaster::occluded(const SegmentArrays& segments, std::span<uint8_t>
     }
 }
 
+namespace {
+
+// An Embree ray from `ray` over (tNear, infinity) with no hit yet.
+RTCRayHit unboundedRayHit(const Ray& ray, float tNear) {
+    RTCRayHit rayHit{};
+    rayHit.ray.org_x = ray.origin[0];
+    rayHit.ray.org_y = ray.origin[1];
+    rayHit.ray.org_z = ray.origin[2];
+    rayHit.ray.dir_x = ray.direction[0];
+    rayHit.ray.dir_y = ray.direction[1];
+    rayHit.ray.dir_z = ray.direction[2];
+    rayHit.ray.tnear = tNear;
+    rayHit.ray.tfar = std::numeric_limits<float>::infinity();
+    rayHit.ray.mask = 0xffffffffu;
+    rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rayHit.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    return rayHit;
+}
+
+}  // namespace
+
 void EmbreeRayCaster::closestHits(std::span<const Ray> rays, std::span<uint32_t> hits) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     for (std::size_t k = 0; k < rays.size(); ++k) {
-        RTCRayHit rayHit;
-        RTCRay& ray = rayHit.ray;
-        ray.org_x = rays[k].origin[0];
-        ray.org_y = rays[k].origin[1];
-        ray.org_z = rays[k].origin[2];
-        ray.dir_x = rays[k].direction[0];
-        ray.dir_y = rays[k].direction[1];
-        ray.dir_z = rays[k].direction[2];
-        ray.tnear = impl_->selfMargin;
-        ray.tfar = std::numeric_limits<float>::infinity();
-        ray.time = 0;
-        ray.mask = 0xffffffffu;
-        ray.id = 0;
-        ray.flags = 0;
-        rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rayHit.hit.primID = RTC_INVALID_GEOMETRY_ID;
+        RTCRayHit rayHit = unboundedRayHit(rays[k], impl_->selfMargin);
         rtcIntersect1(impl_->scene, &context, &rayHit);
         hits[k] = rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID ? kNoPatch : rayHit.hit.primID;
     }
@@ -254,27 +260,12 @@ void EmbreeRayCaster::closestSurfaceHits(std::span<const Ray> rays, std::span<Su
     rtcInitIntersectContext(&context);
     context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;  // callers pass neighbouring pixels
     for (std::size_t k = 0; k < rays.size(); ++k) {
-        RTCRayHit rayHit;
-        RTCRay& ray = rayHit.ray;
-        ray.org_x = rays[k].origin[0];
-        ray.org_y = rays[k].origin[1];
-        ray.org_z = rays[k].origin[2];
-        ray.dir_x = rays[k].direction[0];
-        ray.dir_y = rays[k].direction[1];
-        ray.dir_z = rays[k].direction[2];
-        ray.tnear = tNear;
-        ray.tfar = std::numeric_limits<float>::infinity();
-        ray.time = 0;
-        ray.mask = 0xffffffffu;
-        ray.id = 0;
-        ray.flags = 0;
-        rayHit.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-        rayHit.hit.primID = RTC_INVALID_GEOMETRY_ID;
+        RTCRayHit rayHit = unboundedRayHit(rays[k], tNear);
         rtcIntersect1(impl_->scene, &context, &rayHit);
         if (rayHit.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
             hits[k] = {kNoPatch, 0, 0, std::numeric_limits<float>::infinity()};
         } else {
-            hits[k] = {rayHit.hit.primID, rayHit.hit.u, rayHit.hit.v, ray.tfar};
+            hits[k] = {rayHit.hit.primID, rayHit.hit.u, rayHit.hit.v, rayHit.ray.tfar};
         }
     }
 }

@@ -21,12 +21,11 @@ namespace daisy {
 namespace {
 
 using test::groupFactor;
+using test::kHowellC11;
+using test::kHowellC11Distance2;
+using test::kHowellC14;
 using test::parallelSquares;
 using test::perpendicularSquares;
-
-constexpr double kHowellC11 = 0.199824895698;
-constexpr double kHowellC11Distance2 = 0.0685895888185526;
-constexpr double kHowellC14 = 0.200043776075;
 
 // Parallel 8 x 8 squares at distance 2 with a plate at z = 1 covering x < 0.5 (two triangles,
 // patches 256 and 257). The reflection x -> 1 - x swaps blocked and open segments and preserves

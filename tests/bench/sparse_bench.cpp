@@ -15,6 +15,7 @@
 
 #include "backend/backend.h"
 #include "geometry/patch_mesh.h"
+#include "radiosity/form_factor_scenes.h"
 #include "radiosity/gather_kernels.h"
 #include "radiosity/solver.h"
 #include "radiosity/sparse_matrix.h"
@@ -22,33 +23,9 @@
 namespace daisy {
 namespace {
 
-void addGrid(TriangleMesh& mesh, Vec3d origin, Vec3d u, Vec3d v, int n) {
-    const auto base = static_cast<uint32_t>(mesh.positions.size());
-    for (int y = 0; y <= n; ++y)
-        for (int x = 0; x <= n; ++x)
-            mesh.positions.push_back(origin + u * (double(x) / n) + v * (double(y) / n));
-    const auto at = [&](int x, int y) { return base + uint32_t(y * (n + 1) + x); };
-    for (int y = 0; y < n; ++y) {
-        for (int x = 0; x < n; ++x) {
-            mesh.triangles.push_back({at(x, y), at(x + 1, y), at(x + 1, y + 1)});
-            mesh.triangles.push_back({at(x, y), at(x + 1, y + 1), at(x, y + 1)});
-            mesh.materials.insert(mesh.materials.end(), {0u, 0u});
-        }
-    }
-}
-
 const SparseMatrix& cubeMatrix() {
     static const std::unique_ptr<SparseMatrix> matrix = [] {
-        const int n = 14;
-        TriangleMesh mesh;
-        const Vec3d o{0, 0, 0}, x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
-        addGrid(mesh, o, x, y, n);
-        addGrid(mesh, z, y, x, n);
-        addGrid(mesh, o, z, x, n);
-        addGrid(mesh, y, x, z, n);
-        addGrid(mesh, o, y, z, n);
-        addGrid(mesh, x, z, y, n);
-        auto patches = buildPatchMesh(mesh, 0);
+        auto patches = buildPatchMesh(test::unitCubeRoom(14), 0);
         FormFactorSettings settings;
         settings.progress = false;
         auto f = patches ? makeCpuBackend()->buildFormFactors(*patches, settings)

@@ -9,6 +9,13 @@
 
 namespace daisy::test {
 
+// Howell, "A Catalog of Radiation Heat Transfer Configuration Factors", 3rd ed.: C-11, identical
+// parallel directly opposed unit squares at distance 1 (and 2); C-14, perpendicular unit squares
+// sharing an edge.
+inline constexpr double kHowellC11 = 0.199824895698;
+inline constexpr double kHowellC11Distance2 = 0.0685895888185526;
+inline constexpr double kHowellC14 = 0.200043776075;
+
 // Adds the parallelogram origin + s u + t v (s, t in [0, 1]) as an nu x nv grid of quads, two
 // triangles each, facing cross(u, v).
 inline void addGrid(TriangleMesh& mesh, Vec3d origin, Vec3d u, Vec3d v, int nu, int nv,

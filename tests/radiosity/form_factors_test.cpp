@@ -20,11 +20,10 @@ namespace daisy {
 namespace {
 
 using test::groupFactor;
+using test::kHowellC11;
+using test::kHowellC14;
 using test::parallelSquares;
 using test::perpendicularSquares;
-
-constexpr double kHowellC11 = 0.199824895698;
-constexpr double kHowellC14 = 0.200043776075;
 
 FormFactorResult build(const PatchMesh& mesh, FormFactorSettings settings) {
     settings.progress = false;

@@ -24,14 +24,11 @@
 namespace daisy {
 namespace {
 
+using test::kHowellC11;
+using test::kHowellC14;
 using test::perpendicularSquares;
 
 #ifdef DAISY_HAVE_VULKAN
-
-// Howell's catalogue, C-11 (parallel unit squares 1 apart) and C-14 (perpendicular unit squares
-// sharing an edge): 0.19982 and 0.20004.
-constexpr double kHowellC11 = 0.199825;
-constexpr double kHowellC14 = 0.200044;
 
 // Unit squares at z = 0 (facing +z) and z = 1 (facing -z), n x n quads each; with `blocker`, a
 // 0.5 x 0.5 two-sided-opaque square at z = 0.5 in the middle (facing +z).
