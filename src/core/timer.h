@@ -1,0 +1,25 @@
+#pragma once
+// Wall-clock timing of stages (seconds, steady clock): the one helper every module uses.
+#include <chrono>
+
+namespace daisy {
+
+using Clock = std::chrono::steady_clock;
+
+// Seconds from `start` to now.
+inline double secondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// A stopwatch started at construction.
+class Timer {
+public:
+    Timer() : start_(Clock::now()) {}
+    double seconds() const { return secondsSince(start_); }
+    void restart() { start_ = Clock::now(); }
+
+private:
+    Clock::time_point start_;
+};
+
+}  // namespace daisy
