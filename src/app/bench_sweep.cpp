@@ -12,19 +12,20 @@
 #include <string>
 #include <vector>
 
-#include "app/pipeline.h"
-#include "backend/backend.h"
+#include "app/session_options.h"
 #include "core/atomic_file.h"
 #include "core/log.h"
 #include "core/memory.h"
 #include "core/strings.h"
+#include "core/timer.h"
 #include "geometry/auto_patch_size.h"
 #include "image/camera.h"
 #include "image/chart.h"
 #include "image/exposure.h"
 #include "image/image_io.h"
 #include "image/renderer.h"
-#include "image/vertex_radiance.h"
+#include "pipeline/backend_registry.h"
+#include "pipeline/vertex_radiance.h"
 #include "radiosity/radiosity_system.h"
 #include "radiosity/solver.h"
 #include "spectral/color.h"
@@ -32,12 +33,6 @@
 
 namespace daisy::app {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Image size of every row's render: large enough for a stable mean CIEDE2000, small enough that
 // shading never dominates a row's time.
@@ -127,8 +122,8 @@ public:
         camera_ = *camera;
         defaultMaxEdge_ = base_.subdivideMaxEdge ? *base_.subdivideMaxEdge
                                                  : chooseAutoPatchSize(scene_.mesh).maxEdge;
-        auto defaultPatches = buildPatchesWithin(base_, scene_, defaultMaxEdge_);
-        if (!defaultPatches) return defaultPatches.error();
+        auto defaultPatches = buildPatchMesh(scene_.mesh, defaultMaxEdge_);
+        if (!defaultPatches) return Error{concat(scene_.path, ": ", defaultPatches.error().message)};
         referenceMaxEdge_ =
             chooseAutoPatchSize(scene_.mesh, referencePatchBudget(*defaultPatches)).maxEdge;
         return {};
@@ -138,61 +133,49 @@ public:
     Expected<Solution> run(const SweepSetting& setting, RowResult& row, bool reference) {
         const CommonOptions& options = setting.options;
         resetPeakResidentBytes();
-        const Clock::time_point start = Clock::now();
+        const Timer total;
 
-        Clock::time_point stage = Clock::now();
-        auto patches =
-            buildPatchesWithin(options, scene_, setting.maxEdge.value_or(defaultMaxEdge_));
-        if (!patches) return patches.error();
-        row.meshSeconds = secondsSince(stage);
+        // Every row builds its own F (no disk cache): its time is what the row measures.
+        SessionSettings settings = sessionSettingsFrom(options, PatchSizeDefault::InputTriangles);
+        settings.subdivideMaxEdge = setting.maxEdge.value_or(defaultMaxEdge_);
+        settings.cacheDirectory.reset();
+        settings.formFactors.progress = false;
+        settings.logStages = false;
+        if (reference) {
+            settings.wavelengthSet =
+                withUvExcitation(fineWavelengths(), facts_.hasUvLights, facts_.hasFluorescence);
+        }
+        auto session = Session::fromScene(scene_, std::move(settings));
+        if (!session) return session.error();
+        row.meshSeconds = session->timings().meshSeconds;
 
-        auto set = reference
-            ? Expected<WavelengthSet>(
-                  withUvExcitation(fineWavelengths(), facts_.hasUvLights, facts_.hasFluorescence))
-            : makeWavelengthSet(options.wavelengthSpec, facts_.hasUvLights, facts_.hasFluorescence);
-        if (!set) return set.error();
-        auto system = buildRadiositySystem(scene_, *patches, *set);
-        if (!system) return system.error();
-
-        Solution solution{std::move(*patches), std::move(*set), {}, {}};
         std::optional<std::vector<double>> exact;
-        if (reference) exact = furnaceSolution(solution.patches, *system);
+        if (reference) exact = furnaceSolution(session->patches(), session->system());
         if (exact) {
             analytic_ = true;
-            solution.radiosity = std::move(*exact);
+            session->setSolution(std::move(*exact));
             row.converged = true;
         } else {
-            stage = Clock::now();
-            auto backend = makeBackend(options.backend, BackendOptions{options.device});
-            if (!backend) return backend.error();
-            FormFactorSettings ffSettings = formFactorSettingsFrom(options);
-            ffSettings.progress = false;
-            auto formFactors = (*backend)->buildFormFactors(solution.patches, ffSettings);
+            auto formFactors = session->buildFormFactors();
             if (!formFactors) return formFactors.error();
-            row.formFactorSeconds = secondsSince(stage);
-            row.nonzeros = formFactors->matrix.nonzeroCount();
-
-            stage = Clock::now();
-            SolverSettings solver;
-            parseSolverKind(options.solver, solver.kind);
-            solver.tolerance = options.tolerance;
-            solver.maxIterations = options.maxIterations;
-            solver.threads = options.threads;
-            auto solved = solveRadiosity(formFactors->matrix, *system, solver);
+            row.formFactorSeconds = formFactors->seconds;
+            row.nonzeros = session->formFactors().nonzeroCount();
+            auto solved = session->solve();
             if (!solved) return solved.error();
-            row.solveSeconds = secondsSince(stage);
+            row.solveSeconds = session->timings().solveSeconds;
             row.iterations = solved->iterations;
             row.residual = solved->residual;
             row.converged = solved->converged;
-            solution.radiosity = std::move(solved->radiosity);
         }
+        Solution solution{session->patches(), session->wavelengths(),
+                          session->solution().radiosity, {}};
 
-        stage = Clock::now();
+        Timer stage;
         auto image = renderXyz(solution, options.threads);
         if (!image) return image.error();
         solution.xyz = std::move(*image);
-        row.renderSeconds = secondsSince(stage);
-        row.totalSeconds = secondsSince(start);
+        row.renderSeconds = stage.seconds();
+        row.totalSeconds = total.seconds();
         row.peakBytes = peakResidentBytes();
         return solution;
     }
@@ -510,8 +493,7 @@ std::vector<SweepSetting> Sweep::settings() const {
             [&](SweepSetting& s) { s.options.tolerance = tolerance; });
     }
     // The backend the default row ran on (`auto` resolves to one of the others).
-    auto chosen = makeBackend(base_.backend, BackendOptions{base_.device});
-    const std::string defaultBackend = chosen ? (*chosen)->name() : base_.backend;
+    const std::string defaultBackend = resolveBackendName(base_.backend);
     for (const std::string& backend : backendNames()) {
         if (backend == "auto" || backend == defaultBackend || quick) continue;
         if (!makeBackend(backend, BackendOptions{base_.device})) continue;  // not available here
@@ -536,11 +518,13 @@ int runSweep(const CommonOptions& options, const BenchOptions& bench) {
         logError("daisy bench: give a SCENE to sweep, or --stress for the stress suite");
         return 2;
     }
-    auto scene = loadSceneLogged(options);
+    auto scene = loadScene(options.scenePath, options.sceneLoadOptions());
     if (!scene) {
         logError(scene.error().message);
         return 2;
     }
+    for (const std::string& warning : scene->warnings)
+        logWarning(warning);
     const std::string stem = std::filesystem::path(options.scenePath).stem().string();
     const std::string csvPath =
         bench.outputPath.empty() ? concat("bench-", stem, ".csv") : bench.outputPath;

@@ -1,11 +1,12 @@
-// `daisy formfactors SCENE -o F.mtx [--patches-out patches.csv]` (DESIGN.md section 9): load,
-// build patches, print the memory estimate (refusing over --max-memory), build F on the chosen
-// backend, write the Matrix Market file and the patch table, print a summary line.
+// `daisy formfactors SCENE -o F.mtx [--patches-out patches.csv]` (DESIGN.md section 9): a
+// session on the scene, F from the cache or the chosen backend (the session prints the memory
+// estimate and refuses over --max-memory), the Matrix Market file and the patch table, and a
+// summary line.
 #include <string>
 #include <vector>
 
 #include "app/commands.h"
-#include "app/pipeline.h"
+#include "app/session_options.h"
 #include "core/log.h"
 #include "core/progress.h"
 #include "core/strings.h"
@@ -45,20 +46,15 @@ void printVerboseStats(const FormFactorStats& s) {
 }  // namespace
 
 int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
-    auto loaded = loadScenePatches(options);
-    if (!loaded) {
-        logError(loaded.error().message);
-        return 2;
-    }
-    const Scene& scene = loaded->scene;
-    const PatchMesh& patches = loaded->patches;
-    auto run = buildFormFactorsFor(options, patches);
+    auto session = openSession(options, PatchSizeDefault::InputTriangles);
+    if (!session) return 2;
+    auto run = session->buildFormFactors();
     if (!run) {
         logError(run.error().message);
         return 2;
     }
-    const FormFactorResult& result = run->result;
-    const FormFactorStats& stats = result.stats;
+    const SparseMatrix& matrix = session->formFactors();
+    const FormFactorStats& stats = run->stats;
 
     const std::vector<std::string> comments = {
         "DaisyRiot view-factor matrix F: entry (i, j) = F_ij, the fraction of the energy leaving "
@@ -69,22 +65,24 @@ int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
                options.method == "stochastic" ? concat("; stochastic rays ", options.stochasticRays)
                                               : std::string(),
                "; subdivide ", options.subdivideMaxEdge.value_or(0), "; seed ", options.seed)};
-    if (auto written = writeMatrixMarket(exports.matrixPath, result.matrix, comments); !written) {
+    if (auto written = writeMatrixMarket(exports.matrixPath, matrix, comments); !written) {
         logError(written.error().message);
         return 1;
     }
     if (!exports.patchesPath.empty()) {
         std::vector<std::string> names;
-        for (const Material& material : scene.materials)
+        for (const Material& material : session->scene().materials)
             names.push_back(material.name);
-        if (auto written = writePatchCsv(exports.patchesPath, patches, names); !written) {
+        if (auto written = writePatchCsv(exports.patchesPath, session->patches(), names);
+            !written) {
             logError(written.error().message);
             return 1;
         }
     }
-    logInfo(concat("view factors: ", formatCount(stats.nonzeros), " non-zeros (",
-                   formatBytes(static_cast<double>(result.matrix.bytes())), ") in ",
-                   formatDuration(stats.totalSeconds), " on ", run->backendName, " (",
+    logInfo(concat("view factors: ", formatCount(matrix.nonzeroCount()), " non-zeros (",
+                   formatBytes(static_cast<double>(matrix.bytes())), ") in ",
+                   formatDuration(run->seconds), " on ", run->backendName,
+                   run->fromCache ? concat(" ", run->cachePath, ", built") : std::string(), " (",
                    options.method, "); pairs skipped without rays: ", formatCount(stats.facingAway),
                    " facing away, ", formatCount(stats.clearClusterShafts + stats.clearPairShafts),
                    " clear shafts, ", formatCount(stats.coveredPairs), " covered; ",

@@ -2,7 +2,7 @@
 #include <string>
 
 #include "app/commands.h"
-#include "app/pipeline.h"
+#include "app/session_options.h"
 #include "core/log.h"
 #include "core/strings.h"
 #include "geometry/patch_mesh.h"
@@ -40,16 +40,13 @@ std::string cameraList(const Scene& scene) {
 }  // namespace
 
 int runInfo(const CommonOptions& options) {
-    auto loaded = loadScenePatches(options);
-    if (!loaded) {
-        logError(loaded.error().message);
-        return 2;
-    }
-    const Scene& scene = loaded->scene;
-    const PatchMesh& patches = loaded->patches;
+    auto session = openSession(options, PatchSizeDefault::InputTriangles);
+    if (!session) return 2;
+    const Scene& scene = session->scene();
+    const PatchMesh& patches = session->patches();
     const TriangleMesh& mesh = scene.mesh;
     const uint64_t patchEstimate = estimatePatchCount(mesh, options.subdivideMaxEdge.value_or(0));
-    const MatrixEstimate matrix = estimateMatrixMemory(patches);
+    const MatrixEstimate matrix = session->matrixEstimate();
     const Bounds3d bounds = meshBounds(mesh);
 
     std::size_t emissive = 0, fluorescent = 0;
@@ -81,6 +78,16 @@ int runInfo(const CommonOptions& options) {
                     formatNumber(100.0 * matrix.facingFraction, 3), "% of pairs face each other",
                     matrix.sampled ? ", sampled" : "", "), ",
                     formatBytes(static_cast<double>(matrix.matrixBytes)), " as CSR"));
+    const auto& cacheDirectory = session->settings().cacheDirectory;
+    printRow("cached F",
+             !cacheDirectory ? std::string("no (--no-cache)")
+                 : session->formFactorsCached()
+                 ? concat("yes: ", FormFactorCache(*cacheDirectory)
+                                       .entryPath(session->formFactorKey())
+                                       .string())
+                 : concat("no (", options.backend, ", ", options.method, ", L ",
+                          options.quadratureLevel, ", K ", options.raysPerPair, ", seed ",
+                          options.seed, " not in ", cacheDirectory->string(), ")"));
     if (matrix.matrixBytes > options.maxMemoryBytes) {
         printRow(
             "",

@@ -3,13 +3,18 @@
 
 #include "app/commands.h"
 #include "core/log.h"
+#include "pipeline/backend_registry.h"
 
 using namespace daisy::app;
 
 int main(int argc, char** argv) {
     CLI::App app{"DaisyRiot: spectral radiosity with fluorescent materials", "daisy"};
     app.require_subcommand(1);
-    app.set_version_flag("--version", "daisy 0.1.0");
+    std::string version = "daisy 0.1.0 (backends:";
+    for (const std::string& name : daisy::builtInBackendNames())
+        version += " " + name;
+    version += ")";
+    app.set_version_flag("--version", version);
 
     CommonOptions common;
     RenderOptions render;

@@ -5,6 +5,7 @@
 #include <cstdlib>
 
 #include "core/strings.h"
+#include "pipeline/backend_registry.h"
 
 namespace daisy::app {
 namespace {
@@ -43,12 +44,12 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
     if (sceneRequired) scene->required();
 
     command.add_option("--backend", options.backend, "Form-factor backend")
-        ->check(CLI::IsMember({"auto", "cpu", "reference", "vulkan", "cuda"}))
+        ->check(CLI::IsMember(backendNames()))
         ->capture_default_str();
     command.add_option("--device", options.device,
                        "GPU for vulkan/cuda: index or part of its name");
     command.add_option("--method", options.method, "Form-factor method")
-        ->check(CLI::IsMember({"hybrid", "riemann", "nusselt", "stochastic"}))
+        ->check(CLI::IsMember(formFactorMethodNames()))
         ->capture_default_str();
     command.add_option("--quadrature", options.quadratureLevel, "Quadrature level L (4^L points)")
         ->check(CLI::Range(0, 6))
@@ -70,7 +71,7 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
         ->check(kWavelengthSet)
         ->capture_default_str();
     command.add_option("--solver", options.solver, "Radiosity solver")
-        ->check(CLI::IsMember({"gauss-seidel", "jacobi", "southwell"}))
+        ->check(CLI::IsMember(solverKindNames()))
         ->capture_default_str();
     command.add_option("--tolerance", options.tolerance, "Relative residual to stop at")
         ->check(CLI::Range(1e-12, 0.5))
@@ -83,7 +84,11 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
         ->capture_default_str();
     command.add_option("--seed", options.seed, "Seed of the sample sequences")
         ->capture_default_str();
-    command.add_option("--cache", options.cacheDir, "Directory of the form-factor cache");
+    auto* cache = command.add_option(
+        "--cache", options.cacheDir,
+        "Directory of the form-factor cache (default: $XDG_CACHE_HOME/daisyriot)");
+    command.add_flag("--no-cache", options.noCache, "Neither read nor write the form-factor cache")
+        ->excludes(cache);
     command
         .add_option("--max-memory", options.maxMemoryText,
                     "Refuse work needing more memory (default: 80% of RAM)")

@@ -8,6 +8,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "radiosity/form_factors.h"
+#include "radiosity/solver.h"
 #include "scene/load_scene.h"
 #include "spectral/wavelength_spec.h"
 
@@ -15,25 +17,25 @@ namespace daisy::app {
 
 struct CommonOptions {
     std::string scenePath;
-    std::string backend = "auto";  // auto | cpu | reference | vulkan | cuda
+    std::string backend = "auto";  // "auto" or a name of pipeline/backend_registry.h
     std::string device;  // --device: GPU index or part of its name; empty = first suitable
-    std::string method = "hybrid";  // hybrid | riemann | nusselt | stochastic
-    int quadratureLevel = 1;  // L: 4^L points per patch
-    // K shadow rays per pair; 0 = no visibility test. 4, not the library's 16: chosen by
-    // `daisy bench` (docs/performance.md, "Choosing the defaults").
-    int raysPerPair = 4;
-    int stochasticRays = 1024;  // N rays per patch for --method stochastic
+    // The form-factor settings' names and defaults are the library's (radiosity/form_factors.h).
+    std::string method = formFactorMethodName(FormFactorSettings{}.method);
+    int quadratureLevel = FormFactorSettings{}.quadratureLevel;  // L: 4^L points per patch
+    int raysPerPair = FormFactorSettings{}.raysPerPair;  // K shadow rays per pair; 0 = none
+    int stochasticRays = FormFactorSettings{}.stochasticRays;  // N rays per patch (stochastic)
     // --subdivide: scene units; 0 = keep the input triangles; unset = `render` and `view` choose
     // a patch size from the scene (geometry/auto_patch_size.h), other commands keep the triangles
     std::optional<double> subdivideMaxEdge;
     std::string wavelengths = "auto";  // see spectral/wavelength_spec.h
     WavelengthSpec wavelengthSpec;  // parsed from `wavelengths`
-    std::string solver = "gauss-seidel";  // gauss-seidel | jacobi | southwell
-    double tolerance = 1e-4;  // relative residual
-    int maxIterations = 1000;
+    std::string solver = solverKindName(SolverSettings{}.kind);
+    double tolerance = SolverSettings{}.tolerance;  // relative residual
+    int maxIterations = SolverSettings{}.maxIterations;
     int threads = 0;  // 0 = all hardware threads
     uint64_t seed = 1;
-    std::string cacheDir;  // empty = no disk cache
+    std::string cacheDir;  // --cache DIR; empty = the default folder (unless noCache)
+    bool noCache = false;  // --no-cache: neither read nor write the disk cache of F
     std::string maxMemoryText;  // as typed; parsed into maxMemoryBytes
     uint64_t maxMemoryBytes = 0;  // default: 80% of physical memory
     bool quiet = false;

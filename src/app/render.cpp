@@ -1,28 +1,26 @@
 // `daisy render SCENE -o out.png|.exr|.pfm` (DESIGN.md sections 7 and 9, docs/rendering.md):
-// the whole pipeline (app/pipeline.h, with an automatic patch size unless --subdivide), then
-// per-patch radiance L = B / pi -> CIE XYZ (and every wavelength sample for --spectral-exr) ->
-// smooth per-corner values -> a ray-cast image -> exposure -> the file, and a closing summary:
-// the time of each stage, the solve, peak memory and what was skipped.
+// the session (pipeline/session.h, with an automatic patch size unless --subdivide: F from the
+// cache or a backend, then the solve), its smooth per-corner radiance in CIE XYZ (and every
+// wavelength sample for --spectral-exr) -> a ray-cast image -> exposure -> the file, and a
+// closing summary: the time of each stage, the solve, peak memory and what was skipped.
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
-#include <numbers>
 #include <string>
 #include <vector>
 
 #include "app/commands.h"
-#include "app/pipeline.h"
+#include "app/session_options.h"
 #include "core/log.h"
 #include "core/memory.h"
 #include "core/progress.h"
 #include "core/strings.h"
+#include "core/timer.h"
 #include "image/camera.h"
 #include "image/exposure.h"
 #include "image/image_io.h"
 #include "image/renderer.h"
-#include "image/vertex_radiance.h"
 
 namespace daisy::app {
 namespace {
@@ -36,37 +34,8 @@ ImageFormat formatOf(const std::string& path) {
     return ImageFormat::Png;  // CLI11 accepted only .png, .exr and .pfm
 }
 
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 std::string percentOf(uint64_t part, uint64_t whole) {
     return whole ? concat(formatNumber(100.0 * double(part) / double(whole), 3), "%") : "0%";
-}
-
-// Per-patch values for the renderer: [L_0 .. L_{m-1} when spectral] X Y Z coverage, where
-// L = B / pi is the radiance of a Lambertian emitter of exitance B and coverage is 1 (so the
-// rendered coverage channel is the fraction of a pixel's samples that hit the scene).
-std::vector<float> patchChannels(const SolvedScene& solved, bool spectral, int channels) {
-    const std::size_t n = solved.system.patchCount, m = solved.system.wavelengthCount;
-    const std::vector<double>& b = solved.solution.radiosity;
-    std::vector<float> values(n * std::size_t(channels));
-    std::vector<double> radiance(m);
-    for (std::size_t i = 0; i < n; ++i) {
-        for (std::size_t k = 0; k < m; ++k)
-            radiance[k] = b[i * m + k] / std::numbers::pi;
-        float* out = values.data() + i * std::size_t(channels);
-        if (spectral) {
-            for (std::size_t k = 0; k < m; ++k)
-                *out++ = static_cast<float>(radiance[k]);
-        }
-        const Xyz xyz = solved.wavelengths.toXyz(radiance);
-        *out++ = static_cast<float>(xyz[0]);
-        *out++ = static_cast<float>(xyz[1]);
-        *out++ = static_cast<float>(xyz[2]);
-        *out = 1.0f;
-    }
-    return values;
 }
 
 // Copies `count` channels starting at `first` into an image of their own.
@@ -91,21 +60,21 @@ void addBackground(Image& linearSrgb, const Image& rendered, int coverageChannel
 
 // One line on what the run did not compute: pairs culled without rays, the wavelengths'
 // independence, UV samples left out.
-std::string skippedSummary(const SolvedScene& solved) {
-    const FormFactorStats& s = solved.formFactors.result.stats;
-    std::string text = concat(
+std::string skippedSummary(const Session& session, const FormFactorReport& formFactors) {
+    const FormFactorStats& s = formFactors.stats;
+    std::string text = concat(formFactors.fromCache ? "(the cached build) " : "",
         "skipped: ", percentOf(s.facingAway, s.pairs), " of patch pairs facing away, ",
         percentOf(s.clearClusterShafts + s.clearPairShafts, s.pairs), " with a clear shaft and ",
         percentOf(s.coveredPairs, s.pairs), " covered (no rays); ",
         percentOf(s.tracedPairs, s.pairs), " traced with ", formatCount(s.raysCast), " rays");
-    if (solved.fluorescentOperators == 0) {
+    if (session.fluorescentOperatorCount() == 0) {
         text += "; no fluorescence: the wavelengths were solved independently";
     }
     // `auto` adds UV samples only for UV-emitting lights (over 3% of their power below 400 nm,
     // spectral/spectrum.h) together with fluorescent materials.
-    if (!solved.facts.hasFluorescence) {
+    if (!session.facts().hasFluorescence) {
         text += "; no UV samples (no fluorescent material)";
-    } else if (!solved.facts.hasUvLights) {
+    } else if (!session.facts().hasUvLights) {
         text += "; no UV samples (no UV-emitting light)";
     }
     return text;
@@ -114,7 +83,7 @@ std::string skippedSummary(const SolvedScene& solved) {
 }  // namespace
 
 int runRender(const CommonOptions& options, const RenderOptions& render) {
-    const auto started = std::chrono::steady_clock::now();
+    const Timer total;
     const ImageFormat format = formatOf(render.outputPath);
     if (render.spectralExr && format != ImageFormat::Exr) {
         logError(concat("--spectral-exr: the output ", render.outputPath, " is not an .exr"));
@@ -156,23 +125,29 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
         camera.aspectRatio = 0;
         return {};
     };
-    auto solved = solveScene(options, DefaultPatchSize::Automatic, chooseCameraFor);
+    auto session = openSession(options, PatchSizeDefault::Automatic, chooseCameraFor);
+    if (!session) return 2;
+    auto formFactors = session->buildFormFactors();
+    if (!formFactors) {
+        logError(formFactors.error().message);
+        return 2;
+    }
+    auto solved = session->solve();
     if (!solved) {
         logError(solved.error().message);
         return 2;
     }
 
     // Shade: per-patch radiance -> per-corner values.
-    auto start = std::chrono::steady_clock::now();
+    Timer stage;
     const bool spectral = render.spectralExr;
-    const int m = static_cast<int>(solved->system.wavelengthCount);
+    const int m = static_cast<int>(session->system().wavelengthCount);
     const int xyzChannel = spectral ? m : 0;
-    const int channels = xyzChannel + 4;  // [spectral], X, Y, Z, coverage
-    const std::vector<float> corners =
-        cornerValues(solved->patches, patchChannels(*solved, spectral, channels), channels);
-    const double shadeSeconds = secondsSince(start);
+    const int channels = Session::channelCount(std::size_t(m), spectral);
+    const std::vector<float> corners = session->cornerChannels(spectral);
+    const double shadeSeconds = stage.seconds();
 
-    start = std::chrono::steady_clock::now();
+    stage.restart();
     RenderSettings settings;
     settings.width = width;
     settings.height = height;
@@ -180,15 +155,15 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     settings.threads = options.threads;
     const std::vector<float> missValue(std::size_t(channels), 0.0f);
     auto rendered =
-        renderCornerValues(solved->patches, camera, settings, corners, channels, missValue);
+        renderCornerValues(session->patches(), camera, settings, corners, channels, missValue);
     if (!rendered) {
         logError(concat(options.scenePath, ": ", rendered.error().message));
         return 1;
     }
-    const double renderSeconds = secondsSince(start);
+    const double renderSeconds = stage.seconds();
 
     // Exposure and the file.
-    start = std::chrono::steady_clock::now();
+    stage.restart();
     const Image xyz = channelSlice(*rendered, xyzChannel, 3);
     const double scale = exposureScale(*exposure, xyz);
     Expected<void> written;
@@ -210,7 +185,7 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
             all.channelNames = {"R", "G", "B"};
             for (int k = 0; k < m; ++k)
                 all.channelNames.push_back(
-                    spectralChannelName(solved->wavelengths.wavelengthNm(k)));
+                    spectralChannelName(session->wavelengths().wavelengthNm(k)));
             for (std::size_t p = 0; p < std::size_t(all.width) * all.height; ++p) {
                 for (int c = 0; c < 3; ++c)
                     all.pixels[p * all.channels + c] = linear.pixels[p * 3 + c];
@@ -225,9 +200,10 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
         logError(written.error().message);
         return 1;
     }
-    const double writeSeconds = secondsSince(start);
+    const double writeSeconds = stage.seconds();
 
-    const SolvedScene& s = *solved;
+    const Session& s = *session;
+    const SessionTimings& t = s.timings();
     const std::string cameraName =
         framed ? "automatic framing" : concat("camera '", camera.name, "'");
     const std::string exposureText = format != ImageFormat::Png
@@ -237,22 +213,23 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     logInfo(concat("render: wrote ", render.outputPath, " (", width, " x ", height, ", ",
                    render.samplesPerPixel, " spp, ", cameraName, ", ", exposureText,
                    spectral ? concat(", ", m, " spectral channels") : "", ")"));
-    logInfo(concat("  time: load ", formatDuration(s.loadSeconds), ", mesh ",
-                   formatDuration(s.meshSeconds), ", view factors ",
-                   formatDuration(s.viewFactorSeconds), ", solve ", formatDuration(s.solveSeconds),
-                   ", shade ", formatDuration(shadeSeconds), ", render ",
-                   formatDuration(renderSeconds), ", write ", formatDuration(writeSeconds),
-                   "; total ", formatDuration(secondsSince(started))));
+    logInfo(concat("  time: load ", formatDuration(t.loadSeconds), ", mesh ",
+                   formatDuration(t.meshSeconds), ", view factors ",
+                   formatDuration(t.viewFactorSeconds),
+                   formFactors->fromCache ? " (from the cache)" : "", ", solve ",
+                   formatDuration(t.solveSeconds), ", shade ", formatDuration(shadeSeconds),
+                   ", render ", formatDuration(renderSeconds), ", write ",
+                   formatDuration(writeSeconds), "; total ", formatDuration(total.seconds())));
     logInfo(concat(
-        "  patches: ", formatCount(s.patches.patchCount()), " from ",
-        formatCount(s.scene.mesh.triangleCount()), " triangles (",
-        s.maxEdge == 0
+        "  patches: ", formatCount(s.patches().patchCount()), " from ",
+        formatCount(s.scene().mesh.triangleCount()), " triangles (",
+        s.patchMaxEdge() == 0
             ? std::string("input triangles")
-            : concat(s.automaticPatchSize ? "automatic " : "", "--subdivide ", s.maxEdge),
-        "); ", s.system.wavelengthCount, " wavelengths (", s.wavelengths.name(), "); solve ",
-        s.solution.iterations, " iterations, residual ", formatNumber(s.solution.residual, 3),
-        s.solution.converged ? "" : " (not converged)"));
-    logInfo(concat("  ", skippedSummary(s)));
+            : concat(s.automaticPatchSize() ? "automatic " : "", "--subdivide ", s.patchMaxEdge()),
+        "); ", s.system().wavelengthCount, " wavelengths (", s.wavelengths().name(), "); solve ",
+        solved->iterations, " iterations, residual ", formatNumber(solved->residual, 3),
+        solved->converged ? "" : " (not converged)"));
+    logInfo(concat("  ", skippedSummary(s, *formFactors)));
     logInfo(concat("  peak memory: ", formatBytes(double(peakResidentBytes()))));
     return 0;
 }

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "app/pipeline.h"
+#include "app/session_options.h"
 #include "core/log.h"
 #include "core/strings.h"
 #include "radiosity/energy.h"
@@ -45,9 +45,10 @@ void printEnergy(const EnergyBalance& e, const RadiositySystem& system) {
     }
 }
 
-Expected<void> writeSolvedPatches(const std::string& path, const Scene& scene,
-                                  const PatchMesh& patches, const RadiositySystem& system,
-                                  const WavelengthSet& set, const std::vector<double>& radiosity) {
+Expected<void> writeSolvedPatches(const std::string& path, const Session& session) {
+    const RadiositySystem& system = session.system();
+    const WavelengthSet& set = session.wavelengths();
+    const std::vector<double>& radiosity = session.solution().radiosity;
     const std::size_t n = system.patchCount, m = system.wavelengthCount;
     PatchCsvColumns emission, solved, xyz;
     for (std::size_t k = 0; k < m; ++k) {
@@ -57,6 +58,7 @@ Expected<void> writeSolvedPatches(const std::string& path, const Scene& scene,
     xyz.names = {"X", "Y", "Z"};
     std::vector<double> xyzValues(n * 3);
     for (std::size_t i = 0; i < n; ++i) {
+        // X, Y, Z of B itself (exitance), not of the radiance B / pi.
         const Xyz c = set.toXyz(std::span<const double>(radiosity.data() + i * m, m));
         xyzValues[i * 3 + 0] = c[0];
         xyzValues[i * 3 + 1] = c[1];
@@ -66,31 +68,30 @@ Expected<void> writeSolvedPatches(const std::string& path, const Scene& scene,
     solved.values = radiosity;
     xyz.values = xyzValues;
     std::vector<std::string> names;
-    for (const Material& material : scene.materials)
+    for (const Material& material : session.scene().materials)
         names.push_back(material.name);
     const PatchCsvColumns extra[] = {emission, solved, xyz};
-    return writePatchCsv(path, patches, names, extra);
+    return writePatchCsv(path, session.patches(), names, extra);
 }
 
 }  // namespace
 
 int runSolve(const CommonOptions& options, const ExportOptions& exports) {
-    auto solved = solveScene(options, DefaultPatchSize::InputTriangles);
+    auto session = openSession(options, PatchSizeDefault::InputTriangles);
+    if (!session) return 2;
+    auto solved = session->solve();
     if (!solved) {
         logError(solved.error().message);
         return 2;
     }
     if (verbosity() == Verbosity::Verbose) {
-        const std::vector<double> sums = rowSums(solved->formFactors.result.matrix);
-        printEnergy(computeEnergyBalance(solved->system, sums, solved->solution.radiosity,
-                                         solved->solution.gathered),
-                    solved->system);
+        const std::span<const double> sums = session->formFactorRowSums();
+        printEnergy(computeEnergyBalance(session->system(), sums,
+                                         solved->radiosity, solved->gathered),
+                    session->system());
     }
     if (!exports.patchesPath.empty()) {
-        if (auto written =
-                writeSolvedPatches(exports.patchesPath, solved->scene, solved->patches,
-                                   solved->system, solved->wavelengths, solved->solution.radiosity);
-            !written) {
+        if (auto written = writeSolvedPatches(exports.patchesPath, *session); !written) {
             logError(written.error().message);
             return 1;
         }

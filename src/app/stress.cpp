@@ -13,7 +13,7 @@
 #include <memory>
 #include <numbers>
 
-#include "backend/backend.h"
+#include "pipeline/backend_registry.h"
 #include "core/strings.h"
 #include "geometry/patch_mesh.h"
 #include "radiosity/energy.h"

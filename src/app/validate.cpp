@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "app/commands.h"
-#include "app/pipeline.h"
+#include "app/session_options.h"
 #include "core/log.h"
 #include "core/progress.h"
 #include "core/strings.h"
@@ -104,27 +104,21 @@ std::string place(const EntryDifference& d) {
 }  // namespace
 
 int runValidate(const CommonOptions& options, const ValidateOptions& validate) {
-    auto loaded = loadScenePatches(options);
-    if (!loaded) {
-        logError(loaded.error().message);
-        return 2;
-    }
-    const PatchMesh& patches = loaded->patches;
-    auto tested = buildFormFactorsFor(options, patches);
+    // Both matrices are built here, never read from the cache: comparing them is the point.
+    auto session = openSession(options, PatchSizeDefault::InputTriangles);
+    if (!session) return 2;
+    auto tested = session->buildFormFactorsUncached(options.backend);
     if (!tested) {
         logError(tested.error().message);
         return 2;
     }
-    CommonOptions againstOptions = options;
-    againstOptions.backend = validate.against;
-    againstOptions.device.clear();
-    auto against = buildFormFactorsFor(againstOptions, patches);
+    const SparseMatrix a = session->formFactors();
+    auto against = session->buildFormFactorsUncached(validate.against);
     if (!against) {
         logError(against.error().message);
         return 2;
     }
-    const SparseMatrix& a = tested->result.matrix;
-    const SparseMatrix& b = against->result.matrix;
+    const SparseMatrix& b = session->formFactors();
     DAISY_CHECK_OP(a.size, ==, b.size);
     const Comparison c = compareMatrices(a, b, validate);
     const std::string& nameA = tested->backendName;
@@ -138,9 +132,9 @@ int runValidate(const CommonOptions& options, const ValidateOptions& validate) {
         static_cast<unsigned long long>(options.seed));
     std::printf("  %s: %s non-zeros in %s; %s: %s non-zeros in %s\n", nameA.c_str(),
                 formatCount(a.nonzeroCount()).c_str(),
-                formatDuration(tested->result.stats.totalSeconds).c_str(), nameB.c_str(),
+                formatDuration(tested->stats.totalSeconds).c_str(), nameB.c_str(),
                 formatCount(b.nonzeroCount()).c_str(),
-                formatDuration(against->result.stats.totalSeconds).c_str());
+                formatDuration(against->stats.totalSeconds).c_str());
     std::printf("  union %s entries: %s only in %s, %s only in %s\n",
                 formatCount(c.unionEntries).c_str(), formatCount(c.onlyTested).c_str(),
                 nameA.c_str(), formatCount(c.onlyAgainst).c_str(), nameB.c_str());

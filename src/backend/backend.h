@@ -3,11 +3,10 @@
 // `reference` (the shared kernels of src/shared/ on the CPU over our flat BVH: the oracle for the
 // GPU backends), `vulkan` (the same kernels as compute shaders; only in binaries built with
 // DAISY_ENABLE_VULKAN, and only where a Vulkan 1.2 device exists) and `cuda` (lands with its
-// issue; until then refused with a clear message). `auto` picks vulkan on a discrete or
-// integrated GPU when built in, else cpu (cuda joins first in line with its issue).
+// issue). The list of backends and `--backend auto` live in pipeline/backend_registry.h, above
+// every backend library.
 #include <memory>
 #include <string>
-#include <vector>
 
 #include "core/expected.h"
 #include "geometry/patch_mesh.h"
@@ -27,15 +26,6 @@ public:
 struct BackendOptions {
     std::string device;  // --device: GPU index or part of its name; empty = the first suitable
 };
-
-// Every backend name the command line accepts, "auto" first.
-std::vector<std::string> backendNames();
-
-// The backend called `name` ("auto" resolves as above). Error for unknown names, for backends
-// not built into this binary ("backend 'vulkan' is not built into this binary (configure with
-// -DDAISY_ENABLE_VULKAN=ON)", "backend 'cuda' is not built yet") and for a missing device.
-Expected<std::unique_ptr<Backend>> makeBackend(const std::string& name,
-                                               const BackendOptions& options = {});
 
 std::unique_ptr<Backend> makeCpuBackend();
 std::unique_ptr<Backend> makeReferenceBackend();

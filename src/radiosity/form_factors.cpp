@@ -579,15 +579,28 @@ Expected<FormFactorResult> PairLoop::run() {
 
 }  // namespace
 
+namespace {
+
+constexpr FormFactorMethod kMethods[] = {FormFactorMethod::Hybrid, FormFactorMethod::Riemann,
+                                         FormFactorMethod::Nusselt, FormFactorMethod::Stochastic};
+
+}  // namespace
+
 bool parseFormFactorMethod(const std::string& name, FormFactorMethod& method) {
-    for (FormFactorMethod m : {FormFactorMethod::Riemann, FormFactorMethod::Nusselt,
-                               FormFactorMethod::Stochastic, FormFactorMethod::Hybrid}) {
+    for (FormFactorMethod m : kMethods) {
         if (name == formFactorMethodName(m)) {
             method = m;
             return true;
         }
     }
     return false;
+}
+
+std::vector<std::string> formFactorMethodNames() {
+    std::vector<std::string> names;
+    for (FormFactorMethod m : kMethods)
+        names.push_back(formFactorMethodName(m));
+    return names;
 }
 
 const char* formFactorMethodName(FormFactorMethod method) {

@@ -20,7 +20,9 @@
 // cluster pair, then for ever smaller node pairs against the short list of blockers left.
 #include <cstdint>
 #include <string>
+#include <vector>
 
+#include "core/cancel.h"
 #include "core/expected.h"
 #include "geometry/patch_mesh.h"
 #include "radiosity/ray_caster.h"
@@ -33,17 +35,23 @@ enum class FormFactorMethod { Riemann, Nusselt, Stochastic, Hybrid };
 // "riemann" -> Riemann, ...; false for unknown names.
 bool parseFormFactorMethod(const std::string& name, FormFactorMethod& method);
 const char* formFactorMethodName(FormFactorMethod method);
+// Every method name, the default (hybrid) first.
+std::vector<std::string> formFactorMethodNames();
 
 struct FormFactorSettings {
     FormFactorMethod method = FormFactorMethod::Hybrid;
     int quadratureLevel = 1;  // L: 4^L quadrature cells per patch (riemann, hybrid)
-    int raysPerPair = 16;  // K shadow segments per pair; 0 = no visibility (V = 1)
+    // K shadow segments per pair; 0 = no visibility (V = 1). 4: chosen by `daisy bench`
+    // (docs/performance.md, "Choosing the defaults"); the command line's default is this one.
+    int raysPerPair = 4;
     int stochasticRays = 1024;  // N rays per patch (stochastic)
     uint64_t seed = 1;  // of every sample sequence
     int threads = 0;  // worker threads; 0 = all hardware threads
     uint64_t maxMemoryBytes = 0;  // refuse a build needing more; 0 = no limit
     bool shaftCulling = true;  // off only to measure what it saves
     bool progress = true;  // progress line on a terminal (core/progress.h decides if shown)
+    // Polled by the pair loops; when cancelled the build stops with an "interrupted" error.
+    const CancelToken* cancel = nullptr;
 };
 
 struct FormFactorStats {

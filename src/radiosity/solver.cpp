@@ -96,7 +96,7 @@ std::vector<double> parallelRowSums(const SparseMatrix& f) {
     return sums;
 }
 
-ConvergenceRisk riskFromRowSums(const RadiositySystem& system, const std::vector<double>& sums) {
+ConvergenceRisk riskFromRowSums(const RadiositySystem& system, std::span<const double> sums) {
     ConvergenceRisk risk;
     struct Group {
         std::vector<uint32_t> patches;
@@ -176,6 +176,10 @@ private:
     double jacobiIteration();
     double gaussSeidelIteration();
     double southwellIteration();
+    bool cancelRequested() {
+        cancelled_ = cancelled_ || isCancelled(settings_.cancel);
+        return cancelled_;
+    }
 
     const SparseMatrix& f_;
     const RadiositySystem& system_;
@@ -195,7 +199,9 @@ private:
     std::vector<double> scratch_;
     // Southwell: unshot radiosity, its power per patch, and F transposed (row i = column i).
     std::vector<double> unshot_, unshotPower_;
-    SparseMatrix transposed_;
+    SparseMatrix ownTransposed_;
+    const SparseMatrix* transposed_ = nullptr;  // settings_.transposed or &ownTransposed_
+    bool cancelled_ = false;
 };
 
 // B^k = E + M F B^(k-1) for every row at once. Returns ||B^k - B^(k-1)||.
@@ -224,6 +230,7 @@ double Solver::jacobiIteration() {
 double Solver::gaussSeidelIteration() {
     const uint32_t n = system_.patchCount;
     for (uint32_t blockBegin = 0; blockBegin < n; blockBegin += kBlockRows) {
+        if (cancelRequested()) break;
         const uint32_t blockEnd = std::min(n, blockBegin + kBlockRows);
         tbb::parallel_for(
             tbb::blocked_range<uint32_t>(blockBegin, blockEnd, kRowGrain),
@@ -267,6 +274,7 @@ double Solver::southwellIteration() {
     const uint32_t n = system_.patchCount;
     std::vector<double> shot(m_);
     for (uint32_t shotIndex = 0; shotIndex < n; ++shotIndex) {
+        if (shotIndex % 64 == 0 && cancelRequested()) break;
         const auto best = std::max_element(unshotPower_.begin(), unshotPower_.end());
         if (*best <= 0) break;
         const uint32_t i = static_cast<uint32_t>(best - unshotPower_.begin());
@@ -274,8 +282,8 @@ double Solver::southwellIteration() {
         std::copy(u, u + m_, shot.begin());
         std::fill(u, u + m_, 0.0);
         unshotPower_[i] = 0;
-        const std::span<const uint32_t> targets = transposed_.rowColumns(i);
-        const std::span<const float> factors = transposed_.rowValues(i);
+        const std::span<const uint32_t> targets = transposed_->rowColumns(i);
+        const std::span<const float> factors = transposed_->rowValues(i);
         // The targets of one shot are distinct patches: updated in parallel, each on its own.
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, targets.size(), kShotGrain),
                           [&](const tbb::blocked_range<std::size_t>& range) {
@@ -306,7 +314,12 @@ Expected<SolverResult> Solver::run() {
     const auto start = std::chrono::steady_clock::now();
     const uint32_t n = system_.patchCount;
     SolverResult result;
-    b_ = system_.emission;
+    const bool warm = !settings_.initialRadiosity.empty();
+    if (warm) {
+        b_.assign(settings_.initialRadiosity.begin(), settings_.initialRadiosity.end());
+    } else {
+        b_ = system_.emission;
+    }
     if (mixed_) {
         // Gathers read B rows in random order: on 2 MiB pages the whole mirror of a 7,712-patch,
         // 16-sample scene (0.5 MB) needs one TLB entry instead of 121 (measured: a third less
@@ -314,7 +327,10 @@ Expected<SolverResult> Solver::run() {
         const std::size_t bytes =
             (b_.size() * sizeof(float) + kHugePage - 1) / kHugePage * kHugePage;
         mirrorStorage_.reset(static_cast<float*>(std::aligned_alloc(kHugePage, bytes)));
-        if (!mirrorStorage_) throw std::bad_alloc();
+        if (!mirrorStorage_) {
+            return Error{concat("out of memory: the solver's float copy of B needs ",
+                                formatBytes(double(bytes)))};
+        }
 #ifdef __linux__
         madvise(mirrorStorage_.get(), bytes, MADV_HUGEPAGE);  // a hint; fine if refused
 #endif
@@ -324,7 +340,10 @@ Expected<SolverResult> Solver::run() {
     g_.assign(std::size_t(n) * m_, 0.0);
     rowChange_.assign(n, 0.0);
 
-    const std::vector<double> sums = parallelRowSums(f_);
+    std::vector<double> ownSums;
+    if (settings_.rowSums.empty()) ownSums = parallelRowSums(f_);
+    const std::span<const double> sums =
+        settings_.rowSums.empty() ? std::span<const double>(ownSums) : settings_.rowSums;
     const ConvergenceRisk risk = riskFromRowSums(system_, sums);
     if (n > 0 && risk.patches.size() == n) {
         return Error{
@@ -336,15 +355,35 @@ Expected<SolverResult> Solver::run() {
 
     switch (settings_.kind) {
         case SolverKind::Jacobi:
-            next_ = system_.emission;
+            next_ = b_;
             break;
         case SolverKind::GaussSeidel:
             inBlock_.resize(kBlockRows);
             scratch_.resize(m_);
             break;
         case SolverKind::Southwell:
-            transposed_ = transpose(f_);
+            if (settings_.transposed) {
+                transposed_ = settings_.transposed;
+            } else {
+                ownTransposed_ = transpose(f_);
+                transposed_ = &ownTransposed_;
+            }
             unshot_ = system_.emission;
+            if (warm) {
+                // Shoot the start's residual r = E + M F B0 - B0: B = B0 + X with
+                // X = r + M F X, started (as from E) at X = r with r unshot.
+                gatherAll(f_, b_, m_, g_, 0);
+                for (uint32_t i = 0; i < n; ++i) {
+                    double* u = rowOf(unshot_, i);
+                    applyOperator(op(i), system_.emissionRow(i), rowOf(g_, i), m_, u);
+                    double* b = rowOf(b_, i);
+                    for (std::size_t k = 0; k < m_; ++k) {
+                        u[k] -= b[k];
+                        b[k] += u[k];
+                    }
+                }
+                refreshMirror(0, n);
+            }
             unshotPower_.resize(n);
             for (uint32_t i = 0; i < n; ++i)
                 unshotPower_[i] = rowPower(system_, i, rowOf(unshot_, i));
@@ -363,8 +402,9 @@ Expected<SolverResult> Solver::run() {
     };
 
     bool haveResidual = false;
-    if (powerNorm(system_, b_) == 0) {
+    if (powerNorm(system_, system_.emission) == 0) {
         // No emission: B = 0 exactly.
+        std::fill(b_.begin(), b_.end(), 0.0);
         std::fill(g_.begin(), g_.end(), 0.0);
         haveResidual = true;
         result.converged = true;
@@ -372,6 +412,7 @@ Expected<SolverResult> Solver::run() {
     double previousChange = INFINITY;
     int growing = 0;
     for (int iteration = 1; !haveResidual && iteration <= settings_.maxIterations; ++iteration) {
+        if (cancelRequested()) break;
         double change = 0;
         switch (settings_.kind) {
             case SolverKind::Jacobi:
@@ -384,6 +425,7 @@ Expected<SolverResult> Solver::run() {
                 change = southwellIteration();
                 break;
         }
+        if (cancelled_) break;  // a partial sweep: its change is not an iteration's
         result.iterations = iteration;
         const double norm = powerNorm(system_, b_);
         if (!std::isfinite(change) || !std::isfinite(norm)) {
@@ -415,8 +457,15 @@ Expected<SolverResult> Solver::run() {
             if (iteration < settings_.maxIterations) haveResidual = false;
         }
     }
-    if (!haveResidual) finish(false);
-    if (!result.converged) {
+    if (cancelled_) {
+        // Stop at once: no final gather. The residual reported is the last change estimate.
+        result.cancelled = true;
+        result.residual = result.changeHistory.empty() ? 1.0 : result.changeHistory.back();
+        result.warning = concat("cancelled after ", result.iterations, " iterations");
+    } else if (!haveResidual) {
+        finish(false);
+    }
+    if (!result.converged && !result.cancelled) {
         result.warning = concat("not converged after ", result.iterations, " iterations: residual ",
                                 formatNumber(result.residual, 3), " > tolerance ",
                                 formatNumber(settings_.tolerance, 3), risky());
@@ -452,6 +501,11 @@ const char* solverKindName(SolverKind kind) {
             return "southwell";
     }
     return "?";
+}
+
+std::vector<std::string> solverKindNames() {
+    return {solverKindName(SolverKind::GaussSeidel), solverKindName(SolverKind::Jacobi),
+            solverKindName(SolverKind::Southwell)};
 }
 
 ConvergenceRisk findConvergenceRisk(const SparseMatrix& formFactors,
@@ -515,8 +569,20 @@ Expected<SolverResult> solveRadiosity(const SparseMatrix& formFactors,
         return Error{concat("--tolerance must be > 0 and --max-iterations >= 0 (got ",
                             settings.tolerance, ", ", settings.maxIterations, ")")};
     }
+    if ((!settings.initialRadiosity.empty() && settings.initialRadiosity.size() != n * m) ||
+        (!settings.rowSums.empty() && settings.rowSums.size() != n) ||
+        (settings.transposed && settings.transposed->size != n)) {
+        return Error{concat("the warm start, row sums or transpose given to the solver do not "
+                            "match its ",
+                            n, " patches x ", m, " wavelengths")};
+    }
     tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
-    return arena.execute([&] { return Solver(formFactors, system, settings).run(); });
+    try {
+        return arena.execute([&] { return Solver(formFactors, system, settings).run(); });
+    } catch (const std::bad_alloc&) {
+        return Error{concat("out of memory for the solver's work arrays (", n, " patches x ", m,
+                            " wavelengths)")};
+    }
 }
 
 }  // namespace daisy

@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cancel.h"
 #include "core/expected.h"
 #include "radiosity/radiosity_system.h"
 #include "radiosity/sparse_matrix.h"
@@ -45,6 +46,8 @@ enum class SolverKind { GaussSeidel, Jacobi, Southwell };
 // "gauss-seidel", "jacobi", "southwell"; false for anything else.
 bool parseSolverKind(const std::string& name, SolverKind& kind);
 const char* solverKindName(SolverKind kind);
+// Every solver name, the default (gauss-seidel) first.
+std::vector<std::string> solverKindNames();
 
 // Tolerances at or above this solve in mixed precision (see the file comment).
 inline constexpr double kMixedPrecisionMinTolerance = 1e-5;
@@ -57,6 +60,16 @@ struct SolverSettings {
     // Called after every iteration with its number (1-based) and the iterate (n x m); optional
     // (the viewer steps through Jacobi's bounces with it).
     std::function<void(int iteration, std::span<const double> radiosity)> onIteration;
+    // Warm start: the first iterate (n x m, e.g. the last solution before a material edit);
+    // empty = B^0 = E. Southwell shoots the start's residual (see solveRadiosity).
+    std::span<const double> initialRadiosity;
+    // Polled between iterations and every Gauss-Seidel block (a few ms): when cancelled the
+    // solve returns at once with cancelled = true and the last iterate.
+    const CancelToken* cancel = nullptr;
+    // What every solve of the same F derives from it, when the caller keeps it (the session
+    // does): F's row sums (size n) and its transpose (Southwell). Empty / null = computed here.
+    std::span<const double> rowSums;
+    const SparseMatrix* transposed = nullptr;
 };
 
 struct SolverResult {
@@ -65,6 +78,7 @@ struct SolverResult {
     int iterations = 0;
     double residual = 0;  // true relative residual of the returned B
     bool converged = false;  // residual <= tolerance
+    bool cancelled = false;  // stopped by settings.cancel; radiosity is the last iterate
     double seconds = 0;  // wall time of the iterations and the final residual
     // ||B^k - B^(k-1)|| / ||B^k|| per iteration (southwell: ||unshot|| / ||B||)
     std::vector<double> changeHistory;
@@ -83,7 +97,8 @@ ConvergenceRisk findConvergenceRisk(const SparseMatrix& formFactors, const Radio
 // Solves. Errors (the scene's fault, exit status 2): F and the system disagree in size; every
 // patch amplifies light (no absorption, no opening: the solution is infinite); the iteration
 // diverges (the change grows for kDivergenceIterations iterations in a row, or B stops being
-// finite). Reaching maxIterations is not an error: converged = false and `warning` says why.
+// finite); memory for the solver's work arrays cannot be had. Reaching maxIterations is not an
+// error: converged = false and `warning` says why; neither is cancellation (cancelled = true).
 inline constexpr int kDivergenceIterations = 6;
 Expected<SolverResult> solveRadiosity(const SparseMatrix& formFactors,
                                       const RadiositySystem& system,

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "backend/backend.h"
+#include "pipeline/backend_registry.h"
 #include "test_util.h"
 
 namespace daisy {

@@ -12,7 +12,7 @@
 #include <memory>
 #include <string>
 
-#include "backend/backend.h"
+#include "pipeline/backend_registry.h"
 #include "radiosity/form_factor_scenes.h"
 #include "radiosity/sparse_matrix.h"
 #include "test_util.h"

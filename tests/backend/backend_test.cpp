@@ -1,6 +1,6 @@
 // The backend registry (DESIGN.md section 8) and the cpu backend's Embree ray caster. Oracles:
 // segments whose occlusion is evident by construction.
-#include "backend/backend.h"
+#include "pipeline/backend_registry.h"
 
 #include <gtest/gtest.h>
 

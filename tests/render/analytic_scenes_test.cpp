@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "backend/backend.h"
+#include "pipeline/backend_registry.h"
 #include "geometry/patch_mesh.h"
 #include "radiosity/form_factors.h"
 #include "scene/load_scene.h"

@@ -11,7 +11,7 @@
 #include <memory>
 #include <string>
 
-#include "backend/backend.h"
+#include "pipeline/backend_registry.h"
 #include "radiosity/form_factor_scenes.h"
 #include "scene/load_scene.h"
 #include "test_util.h"

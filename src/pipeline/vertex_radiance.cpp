@@ -1,4 +1,4 @@
-#include "image/vertex_radiance.h"
+#include "pipeline/vertex_radiance.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

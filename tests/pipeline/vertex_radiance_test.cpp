@@ -1,10 +1,10 @@
-#include "image/vertex_radiance.h"
+#include "pipeline/vertex_radiance.h"
 
 #include <gtest/gtest.h>
 
 #include <vector>
 
-#include "image_test_util.h"
+#include "image/image_test_util.h"
 
 namespace daisy {
 namespace {

@@ -1,0 +1,43 @@
+#include "app/session_options.h"
+
+#include "core/log.h"
+
+namespace daisy::app {
+
+SessionSettings sessionSettingsFrom(const CommonOptions& options, PatchSizeDefault defaultSize) {
+    SessionSettings settings;
+    settings.scenePath = options.scenePath;
+    settings.load = options.sceneLoadOptions();
+    settings.backend = options.backend;
+    settings.device = options.device;
+    parseFormFactorMethod(options.method, settings.formFactors.method);  // CLI11 checked it
+    settings.formFactors.quadratureLevel = options.quadratureLevel;
+    settings.formFactors.raysPerPair = options.raysPerPair;
+    settings.formFactors.stochasticRays = options.stochasticRays;
+    settings.formFactors.seed = options.seed;
+    settings.formFactors.threads = options.threads;
+    settings.subdivideMaxEdge = options.subdivideMaxEdge;
+    settings.defaultPatchSize = defaultSize;
+    settings.wavelengths = options.wavelengthSpec;
+    settings.wavelengthsText = options.wavelengths;
+    parseSolverKind(options.solver, settings.solver.kind);  // CLI11 checked it
+    settings.solver.tolerance = options.tolerance;
+    settings.solver.maxIterations = options.maxIterations;
+    settings.solver.threads = options.threads;
+    if (!options.noCache) {
+        settings.cacheDirectory = options.cacheDir.empty()
+            ? FormFactorCache::defaultDirectory()
+            : std::filesystem::path(options.cacheDir);
+    }
+    settings.maxMemoryBytes = options.maxMemoryBytes;
+    return settings;
+}
+
+Expected<Session> openSession(const CommonOptions& options, PatchSizeDefault defaultSize,
+                              const std::function<Expected<void>(const Scene&)>& afterLoad) {
+    auto session = Session::open(sessionSettingsFrom(options, defaultSize), afterLoad);
+    if (!session) logError(session.error().message);
+    return session;
+}
+
+}  // namespace daisy::app

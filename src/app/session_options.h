@@ -1,0 +1,17 @@
+#pragma once
+// The command line's common options as the library's session settings (pipeline/session.h).
+#include "app/options.h"
+#include "pipeline/session.h"
+
+namespace daisy::app {
+
+// Everything the session takes from the options; `defaultSize` is what the patch size is when
+// --subdivide is not given. The disk cache is --cache DIR, else the default folder
+// (FormFactorCache::defaultDirectory), and none with --no-cache.
+SessionSettings sessionSettingsFrom(const CommonOptions& options, PatchSizeDefault defaultSize);
+
+// Opens a session on the options' scene and prints the message of an error (exit status 2).
+Expected<Session> openSession(const CommonOptions& options, PatchSizeDefault defaultSize,
+                              const std::function<Expected<void>(const Scene&)>& afterLoad = {});
+
+}  // namespace daisy::app

@@ -1,0 +1,96 @@
+#include "pipeline/backend_registry.h"
+
+#include "core/strings.h"
+
+#if DAISY_HAVE_VULKAN
+#include "vulkan/vulkan_backend.h"
+#endif
+
+namespace daisy {
+namespace {
+
+Expected<std::unique_ptr<Backend>> makeCpu(const BackendOptions&) {
+    return makeCpuBackend();
+}
+
+Expected<std::unique_ptr<Backend>> makeReference(const BackendOptions&) {
+    return makeReferenceBackend();
+}
+
+#if DAISY_HAVE_VULKAN
+Expected<std::unique_ptr<Backend>> makeVulkan(const BackendOptions& options) {
+    return makeVulkanBackend(options);
+}
+#endif
+
+const BackendEntry kEntries[] = {
+    {"cpu", "cpu", true, "", makeCpu},
+    {"reference", "kernel", true, "", makeReference},
+#if DAISY_HAVE_VULKAN
+    {"vulkan", "kernel", true, "", makeVulkan},
+#else
+    {"vulkan", "kernel", false, "configure with -DDAISY_ENABLE_VULKAN=ON", nullptr},
+#endif
+    {"cuda", "kernel", false, "the cuda backend has not landed yet", nullptr},
+};
+
+const BackendEntry* findEntry(const std::string& name) {
+    for (const BackendEntry& entry : kEntries)
+        if (name == entry.name) return &entry;
+    return nullptr;
+}
+
+}  // namespace
+
+std::span<const BackendEntry> backendEntries() {
+    return kEntries;
+}
+
+std::vector<std::string> backendNames() {
+    std::vector<std::string> names{"auto"};
+    for (const BackendEntry& entry : kEntries)
+        names.push_back(entry.name);
+    return names;
+}
+
+std::vector<std::string> builtInBackendNames() {
+    std::vector<std::string> names;
+    for (const BackendEntry& entry : kEntries)
+        if (entry.builtIn) names.push_back(entry.name);
+    return names;
+}
+
+std::string backendFamily(const std::string& name) {
+    const BackendEntry* entry = findEntry(name);
+    return entry ? entry->family : "";
+}
+
+std::string resolveBackendName(const std::string& name) {
+    if (name != "auto") return name;
+#if DAISY_HAVE_VULKAN
+    if (vulkanHardwareGpuPresent()) return "vulkan";
+#endif
+    return "cpu";
+}
+
+Expected<std::unique_ptr<Backend>> makeBackend(const std::string& requested,
+                                               const BackendOptions& options) {
+    const std::string name = resolveBackendName(requested);
+    const BackendEntry* entry = findEntry(name);
+    if (!entry) {
+        std::string known;
+        for (const std::string& n : backendNames())
+            known += (known.empty() ? "" : ", ") + n;
+        return Error{concat("unknown backend '", name, "' (expected one of ", known, ")")};
+    }
+    if (!entry->builtIn) {
+        std::string built;
+        for (const std::string& n : builtInBackendNames())
+            built += (built.empty() ? "" : ", ") + n;
+        return Error{concat("backend '", name, "' is not built into this binary (",
+                            entry->notBuiltReason, "; built in: ", built, ")")};
+    }
+    return entry->make(options);
+}
+
+}  // namespace daisy

@@ -1,0 +1,471 @@
+#include "pipeline/session.h"
+
+#include <numbers>
+#include <new>
+
+#include "core/check.h"
+#include "core/log.h"
+#include "core/progress.h"
+#include "core/strings.h"
+#include "core/timer.h"
+#include "geometry/auto_patch_size.h"
+#include "pipeline/backend_registry.h"
+#include "pipeline/vertex_radiance.h"
+
+namespace daisy {
+
+struct Session::State {
+    SessionSettings settings;
+    Scene scene;
+    SceneSpectralFacts facts;
+    WavelengthSet wavelengths;
+    PatchMesh patches;
+    double maxEdge = 0;
+    bool automaticPatchSize = false;
+    RadiositySystem system;
+    std::size_t fluorescentOperators = 0;
+    SessionTimings timings;
+
+    bool haveF = false;
+    SparseMatrix f;
+    std::vector<double> rowSums;
+    mutable std::optional<SparseMatrix> transposed;
+    uint64_t builds = 0;
+    std::string resolvedBackend;  // settings.backend with `auto` resolved, on first need
+
+    bool haveSolution = false;
+    SolverResult solution;
+
+    std::string scenePath() const { return settings.scenePath; }
+    void stageLine(const std::string& line) const {
+        if (settings.logStages) logInfo(line);
+    }
+    void stageDetail(const std::string& line) const {
+        if (settings.logStages) logVerbose(line);
+    }
+};
+
+namespace {
+
+// The form-factor settings as the backends take them: the session's memory limit applies.
+FormFactorSettings formFactorSettingsOf(const SessionSettings& settings,
+                                        const CancelToken* cancel) {
+    FormFactorSettings ff = settings.formFactors;
+    ff.maxMemoryBytes = settings.maxMemoryBytes == UINT64_MAX ? 0 : settings.maxMemoryBytes;
+    ff.cancel = cancel;
+    return ff;
+}
+
+std::size_t countFluorescent(const RadiositySystem& system) {
+    std::size_t count = 0;
+    for (const MaterialOperator& op : system.operators)
+        count += !op.isDiagonal;
+    return count;
+}
+
+// Wavelength set, patches, E and M for a loaded scene.
+Expected<void> prepare(Session::State& s) {
+    Timer timer;
+    auto facts = sceneSpectralFacts(s.scene);
+    if (!facts) return facts.error();
+    s.facts = *facts;
+    if (s.settings.wavelengthSet) {
+        s.wavelengths = *s.settings.wavelengthSet;
+    } else {
+        auto set = makeWavelengthSet(s.settings.wavelengths, s.facts.hasUvLights,
+                                     s.facts.hasFluorescence);
+        if (!set) {
+            return Error{
+                concat("--wavelengths ", s.settings.wavelengthsText, ": ", set.error().message)};
+        }
+        s.wavelengths = std::move(*set);
+    }
+    s.timings.loadSeconds += timer.seconds();
+
+    timer.restart();
+    if (s.settings.subdivideMaxEdge) {
+        s.maxEdge = *s.settings.subdivideMaxEdge;
+    } else if (s.settings.defaultPatchSize == PatchSizeDefault::Automatic) {
+        const AutoPatchSize size = chooseAutoPatchSize(s.scene.mesh);
+        s.maxEdge = size.maxEdge;
+        s.automaticPatchSize = true;
+        s.stageDetail(concat("patches: automatic size --subdivide ", s.maxEdge, " (budget ",
+                          formatCount(size.budget), " patches for ",
+                          formatCount(s.scene.mesh.triangleCount()), " triangles)"));
+    }
+    const uint64_t patchLimit = s.settings.maxMemoryBytes / kPatchMeshBytesPerPatch;
+    auto patches = buildPatchMesh(s.scene.mesh, s.maxEdge, patchLimit);
+    if (!patches) {
+        return Error{concat(s.scenePath(), ": ", patches.error().message, " (--max-memory ",
+                            formatBytes(static_cast<double>(s.settings.maxMemoryBytes)), ")")};
+    }
+    s.patches = std::move(*patches);
+    auto system = buildRadiositySystem(s.scene, s.patches, s.wavelengths);
+    if (!system) return system.error();
+    s.system = std::move(*system);
+    s.fluorescentOperators = countFluorescent(s.system);
+    s.timings.meshSeconds = timer.seconds();
+
+    const WavelengthSet& w = s.wavelengths;
+    s.stageDetail(concat("wavelengths: ", w.name(), ", ", w.size(), " samples ",
+                      formatNumber(w.wavelengthNm(0)), "..",
+                      formatNumber(w.wavelengthNm(w.size() - 1)), " nm",
+                      s.facts.hasUvLights && s.facts.hasFluorescence
+                          ? " (scene has UV lights and fluorescent materials)"
+                          : ""));
+    s.stageDetail(concat("materials: ", s.scene.materials.size(), " as ", s.system.operators.size(),
+                      " distinct re-radiation matrices, ", s.fluorescentOperators, " fluorescent",
+                      s.fluorescentOperators
+                          ? ""
+                          : " (wavelengths solved independently, M diagonal)"));
+    return {};
+}
+
+}  // namespace
+
+Session::Session(std::unique_ptr<State> state) : state_(std::move(state)) {}
+Session::Session(Session&&) noexcept = default;
+Session& Session::operator=(Session&&) noexcept = default;
+Session::~Session() = default;
+
+Expected<Session> Session::open(SessionSettings settings,
+                                const std::function<Expected<void>(const Scene&)>& afterLoad) {
+    Timer timer;
+    auto scene = loadScene(settings.scenePath, settings.load);
+    if (!scene) return scene.error();
+    for (const std::string& warning : scene->warnings)
+        logWarning(warning);
+    if (afterLoad) {
+        if (auto checked = afterLoad(*scene); !checked) return checked.error();
+    }
+    const double loadSeconds = timer.seconds();
+    auto session = fromScene(std::move(*scene), std::move(settings));
+    if (session) session->state_->timings.loadSeconds += loadSeconds;
+    return session;
+}
+
+Expected<Session> Session::fromScene(Scene scene, SessionSettings settings) {
+    auto state = std::make_unique<State>();
+    state->settings = std::move(settings);
+    if (state->settings.scenePath.empty()) state->settings.scenePath = scene.path;
+    state->scene = std::move(scene);
+    if (auto prepared = prepare(*state); !prepared) return prepared.error();
+    return Session(std::move(state));
+}
+
+const SessionSettings& Session::settings() const {
+    return state_->settings;
+}
+const Scene& Session::scene() const {
+    return state_->scene;
+}
+const SceneSpectralFacts& Session::facts() const {
+    return state_->facts;
+}
+const WavelengthSet& Session::wavelengths() const {
+    return state_->wavelengths;
+}
+const PatchMesh& Session::patches() const {
+    return state_->patches;
+}
+double Session::patchMaxEdge() const {
+    return state_->maxEdge;
+}
+bool Session::automaticPatchSize() const {
+    return state_->automaticPatchSize;
+}
+const RadiositySystem& Session::system() const {
+    return state_->system;
+}
+std::size_t Session::fluorescentOperatorCount() const {
+    return state_->fluorescentOperators;
+}
+const SessionTimings& Session::timings() const {
+    return state_->timings;
+}
+
+// ---- F ----
+
+MatrixEstimate Session::matrixEstimate() const {
+    return estimateMatrixMemory(state_->patches);
+}
+
+FormFactorKey Session::formFactorKey() const {
+    State& s = *state_;
+    if (s.resolvedBackend.empty()) s.resolvedBackend = resolveBackendName(s.settings.backend);
+    return daisy::formFactorKey(s.patches, s.settings.formFactors,
+                                backendFamily(s.resolvedBackend));
+}
+
+bool Session::formFactorsCached() const {
+    const auto& dir = state_->settings.cacheDirectory;
+    return dir && FormFactorCache(*dir).contains(formFactorKey());
+}
+
+Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel) {
+    State& s = *state_;
+    FormFactorReport report;
+    if (s.haveF) {
+        report.backendName = "memory";
+        return report;
+    }
+    Timer timer;
+    std::optional<FormFactorCache> cache;
+    FormFactorKey key;
+    if (s.settings.cacheDirectory) {
+        cache.emplace(*s.settings.cacheDirectory);
+        key = formFactorKey();
+        report.cachePath = cache->entryPath(key).string();
+        CacheLookup lookup = cache->load(key, s.settings.maxMemoryBytes);
+        if (lookup.status == CacheLookup::Status::Hit) {
+            setFormFactors(std::move(lookup.matrix));
+            report.fromCache = true;
+            report.backendName = "cache";
+            report.stats = lookup.stats;
+            report.seconds = timer.seconds();
+            s.timings.viewFactorSeconds = report.seconds;
+            s.stageLine(concat("view factors: ", formatCount(s.f.nonzeroCount()),
+                           " non-zeros from the cache ", report.cachePath, " in ",
+                           formatDuration(report.seconds)));
+            return report;
+        }
+        if (lookup.status == CacheLookup::Status::Rejected) {
+            report.cacheWarning = lookup.message;
+            logWarning(lookup.message);
+        }
+    }
+    auto built = buildFormFactorsUncached(s.settings.backend, cancel);
+    if (!built) return built.error();
+    report.backendName = built->backendName;
+    report.stats = built->stats;
+    if (cache) {
+        const std::string warning = cache->store(key, s.f, report.stats);
+        if (!warning.empty()) {
+            logWarning(warning);
+            if (report.cacheWarning.empty()) report.cacheWarning = warning;
+        }
+    }
+    report.seconds = timer.seconds();
+    s.timings.viewFactorSeconds = report.seconds;
+    return report;
+}
+
+Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& backendName,
+                                                             const CancelToken* cancel) {
+    State& s = *state_;
+    Timer timer;
+    const MatrixEstimate estimate = matrixEstimate();
+    s.stageLine(concat("view factors: ", formatCount(s.patches.patchCount()), " patches, ~",
+                   formatCount(estimate.nonzeros), " non-zeros, ~",
+                   formatBytes(static_cast<double>(estimate.matrixBytes)), " as CSR (estimate)"));
+    if (estimate.matrixBytes > s.settings.maxMemoryBytes) {
+        return Error{concat(s.scenePath(), ": the view-factor matrix needs about ",
+                            formatBytes(static_cast<double>(estimate.matrixBytes)), " for ",
+                            formatCount(s.patches.patchCount()), " patches, more than --max-memory ",
+                            formatBytes(static_cast<double>(s.settings.maxMemoryBytes)),
+                            "; use a larger --subdivide or raise --max-memory")};
+    }
+    auto backend = makeBackend(backendName, BackendOptions{s.settings.device});
+    if (!backend) return Error{concat("--backend ", backendName, ": ", backend.error().message)};
+    auto result = (*backend)->buildFormFactors(s.patches, formFactorSettingsOf(s.settings, cancel));
+    if (!result) return withContext(result.error(), s.scenePath());
+    ++s.builds;
+    FormFactorReport report;
+    report.backendName = (*backend)->name();
+    report.stats = result->stats;
+    s.stageLine(concat("view factors: ", formatCount(result->matrix.nonzeroCount()), " non-zeros in ",
+                   formatDuration(result->stats.totalSeconds), " on ", report.backendName));
+    setFormFactors(std::move(result->matrix));
+    report.seconds = timer.seconds();
+    s.timings.viewFactorSeconds = report.seconds;
+    return report;
+}
+
+bool Session::hasFormFactors() const {
+    return state_->haveF;
+}
+
+const SparseMatrix& Session::formFactors() const {
+    DAISY_CHECK(state_->haveF);
+    return state_->f;
+}
+
+std::span<const double> Session::formFactorRowSums() const {
+    DAISY_CHECK(state_->haveF);
+    return state_->rowSums;
+}
+
+const SparseMatrix& Session::formFactorTranspose() const {
+    DAISY_CHECK(state_->haveF);
+    if (!state_->transposed) state_->transposed = transpose(state_->f);
+    return *state_->transposed;
+}
+
+uint64_t Session::formFactorBuildCount() const {
+    return state_->builds;
+}
+
+void Session::setFormFactors(SparseMatrix matrix) {
+    DAISY_CHECK_OP(matrix.size, ==, state_->patches.patchCount());
+    State& s = *state_;
+    s.f = std::move(matrix);
+    s.rowSums = rowSums(s.f);
+    s.transposed.reset();
+    s.haveF = true;
+}
+
+// ---- edits ----
+
+Expected<void> Session::setMaterial(std::size_t index, Material material) {
+    State& s = *state_;
+    if (index >= s.scene.materials.size()) {
+        return Error{concat("material index ", index, " out of range (the scene has ",
+                            s.scene.materials.size(), " materials)")};
+    }
+    Scene edited = s.scene;
+    edited.materials[index] = std::move(material);
+    Timer timer;
+    auto system = buildRadiositySystem(edited, s.patches, s.wavelengths);
+    if (!system) return system.error();
+    s.scene.materials[index] = std::move(edited.materials[index]);
+    s.system = std::move(*system);
+    s.fluorescentOperators = countFluorescent(s.system);
+    s.timings.meshSeconds = timer.seconds();
+    return {};
+}
+
+Expected<void> Session::setWavelengths(const WavelengthSpec& spec, const std::string& text) {
+    State& s = *state_;
+    auto set = makeWavelengthSet(spec, s.facts.hasUvLights, s.facts.hasFluorescence);
+    if (!set) return Error{concat("--wavelengths ", text, ": ", set.error().message)};
+    auto system = buildRadiositySystem(s.scene, s.patches, *set);
+    if (!system) return system.error();
+    s.settings.wavelengths = spec;
+    s.settings.wavelengthsText = text;
+    s.settings.wavelengthSet.reset();
+    s.wavelengths = std::move(*set);
+    s.system = std::move(*system);
+    s.fluorescentOperators = countFluorescent(s.system);
+    s.haveSolution = false;
+    s.solution = {};
+    return {};
+}
+
+// ---- solve ----
+
+Expected<SolverResult> Session::solve(const SolveRequest& request) {
+    State& s = *state_;
+    if (!s.haveF) {
+        auto built = buildFormFactors(request.cancel);
+        if (!built) return built.error();
+    }
+    SolverSettings settings = s.settings.solver;
+    if (request.maxIterations) settings.maxIterations = *request.maxIterations;
+    if (request.kind) settings.kind = *request.kind;
+    settings.onIteration = request.onIteration;
+    settings.cancel = request.cancel;
+    settings.rowSums = s.rowSums;
+    if (settings.kind == SolverKind::Southwell) settings.transposed = &formFactorTranspose();
+    const std::size_t size = std::size_t(s.system.patchCount) * s.system.wavelengthCount;
+    const bool warm = request.warmStart && s.haveSolution && s.solution.radiosity.size() == size;
+    if (warm) settings.initialRadiosity = s.solution.radiosity;
+
+    Timer timer;
+    auto solved = solveRadiosity(s.f, s.system, settings);
+    if (!solved) return Error{concat(s.scenePath(), ": ", solved.error().message)};
+    s.timings.solveSeconds = timer.seconds();
+    if (!solved->converged && !solved->cancelled) {
+        logWarning(concat(s.scenePath(), ": ", solved->warning));
+    }
+    s.stageLine(concat("solve: ", solved->iterations, " iterations, residual ",
+                   formatNumber(solved->residual, 3), ", ", formatNumber(solved->seconds, 3),
+                   " s (", solverKindName(settings.kind), warm ? ", warm start" : "", ", ",
+                   formatCount(s.system.patchCount), " patches x ", s.system.wavelengthCount,
+                   " wavelengths", s.fluorescentOperators ? ", fluorescence" : "",
+                   solved->cancelled ? ", cancelled" : "", ")"));
+    s.solution = *solved;
+    s.haveSolution = true;
+    return solved;
+}
+
+bool Session::hasSolution() const {
+    return state_->haveSolution;
+}
+
+const SolverResult& Session::solution() const {
+    DAISY_CHECK(state_->haveSolution);
+    return state_->solution;
+}
+
+void Session::resetToEmission() {
+    State& s = *state_;
+    s.solution = {};
+    s.solution.radiosity = s.system.emission;
+    s.haveSolution = true;
+}
+
+void Session::setSolution(std::vector<double> radiosity) {
+    State& s = *state_;
+    DAISY_CHECK_OP(radiosity.size(), ==, s.system.emission.size());
+    s.solution = {};
+    s.solution.radiosity = std::move(radiosity);
+    s.solution.converged = true;
+    s.haveSolution = true;
+}
+
+// ---- display colours ----
+
+int Session::channelCount(std::size_t wavelengthCount, bool spectral) {
+    return int(spectral ? wavelengthCount : 0) + 4;
+}
+
+std::vector<float> Session::patchChannels(bool spectral) const {
+    const State& s = *state_;
+    const std::size_t n = s.system.patchCount, m = s.system.wavelengthCount;
+    const std::vector<double>& b = s.haveSolution ? s.solution.radiosity : s.system.emission;
+    const int channels = channelCount(m, spectral);
+    std::vector<float> values(n * std::size_t(channels));
+    std::vector<double> radiance(m);
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t k = 0; k < m; ++k)
+            radiance[k] = b[i * m + k] / std::numbers::pi;
+        float* out = values.data() + i * std::size_t(channels);
+        if (spectral) {
+            for (std::size_t k = 0; k < m; ++k)
+                *out++ = static_cast<float>(radiance[k]);
+        }
+        const Xyz xyz = s.wavelengths.toXyz(radiance);
+        *out++ = static_cast<float>(xyz[0]);
+        *out++ = static_cast<float>(xyz[1]);
+        *out++ = static_cast<float>(xyz[2]);
+        *out = 1.0f;
+    }
+    return values;
+}
+
+std::vector<Xyz> Session::patchRadianceXyz() const {
+    const std::vector<float> channels = patchChannels(false);
+    std::vector<Xyz> xyz(state_->system.patchCount);
+    for (std::size_t i = 0; i < xyz.size(); ++i)
+        xyz[i] = {channels[i * 4], channels[i * 4 + 1], channels[i * 4 + 2]};
+    return xyz;
+}
+
+std::vector<float> Session::cornerChannels(bool spectral) const {
+    const int channels = channelCount(state_->system.wavelengthCount, spectral);
+    return cornerValues(state_->patches, patchChannels(spectral), channels);
+}
+
+std::vector<float> Session::cornerLinearSrgb(double scale) const {
+    const std::vector<float> corners = cornerChannels(false);
+    std::vector<float> rgb(corners.size() / 4 * 3);
+    for (std::size_t c = 0; c < corners.size() / 4; ++c) {
+        const Rgb value =
+            xyzToLinearSrgb(Xyz{corners[c * 4], corners[c * 4 + 1], corners[c * 4 + 2]});
+        for (int k = 0; k < 3; ++k)
+            rgb[c * 3 + k] = static_cast<float>(value[k] * scale);
+    }
+    return rgb;
+}
+
+}  // namespace daisy

@@ -1,0 +1,172 @@
+#pragma once
+// The session (DESIGN.md section 1): one object that carries a scene through every stage, for
+// every front end (the command line, the viewer, `daisy bench` and the stress suite):
+//     scene -> wavelength set -> patches -> E and M -> F (a backend, or the disk cache) -> B
+//     -> display colours.
+// F is built once and kept, with what every solve derives from it (row sums, transpose); a
+// material or wavelength edit rebuilds only E and M, and the next solve starts warm from the last
+// B. F is reached only through this interface, so its representation can change (hierarchical
+// radiosity) without touching the front ends. Errors are bad input or settings (exit status 2 in
+// the app) and name the scene or the option; the session logs its stage lines (core/log.h).
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/cancel.h"
+#include "core/expected.h"
+#include "geometry/patch_mesh.h"
+#include "pipeline/formfactor_cache.h"
+#include "radiosity/form_factors.h"
+#include "radiosity/matrix_estimate.h"
+#include "radiosity/radiosity_system.h"
+#include "radiosity/solver.h"
+#include "scene/load_scene.h"
+#include "scene/scene.h"
+#include "spectral/color.h"
+#include "spectral/wavelength_set.h"
+#include "spectral/wavelength_spec.h"
+
+namespace daisy {
+
+// What the patch size is when subdivideMaxEdge is not given: `solve`, `formfactors`, `info` and
+// `validate` keep the input triangles; `render` and `view` choose one
+// (geometry/auto_patch_size.h).
+enum class PatchSizeDefault { InputTriangles, Automatic };
+
+struct SessionSettings {
+    std::string scenePath;  // loaded by open(); named in messages
+    SceneLoadOptions load;
+    std::string backend = "auto";  // a name of pipeline/backend_registry.h
+    std::string device;  // --device
+    FormFactorSettings formFactors;  // method, L, K, N, seed, threads; maxMemoryBytes below
+    std::optional<double> subdivideMaxEdge;  // scene units; 0 = the input triangles
+    PatchSizeDefault defaultPatchSize = PatchSizeDefault::InputTriangles;
+    WavelengthSpec wavelengths;  // `auto` adds UV samples only where the scene needs them
+    std::string wavelengthsText = "auto";  // as typed, for messages
+    // An explicit wavelength set, used instead of `wavelengths` when given (bench's reference).
+    std::optional<WavelengthSet> wavelengthSet;
+    SolverSettings solver;  // kind, tolerance, maxIterations, threads
+    std::optional<std::filesystem::path> cacheDirectory;  // the disk cache of F; unset = none
+    uint64_t maxMemoryBytes = UINT64_MAX;  // refuse patches and F needing more
+    bool logStages = true;  // log the stage lines ("view factors: ...", "solve: ...")
+};
+
+// Where F came from and what building it did.
+struct FormFactorReport {
+    std::string backendName;  // the backend that built F (the one that built the cached copy
+                              // is not recorded: backendName is then "cache")
+    bool fromCache = false;
+    std::string cachePath;  // the entry read or written; empty without a cache
+    std::string cacheWarning;  // a rejected entry or a failed store, one line (already logged)
+    FormFactorStats stats;  // of the build (for a cached F: the stats stored with it)
+    double seconds = 0;  // wall time of this call: the cache read, or the build and store
+};
+
+struct SolveRequest {
+    bool warmStart = true;  // start from the last solution when there is one (of the same size)
+    const CancelToken* cancel = nullptr;
+    std::function<void(int iteration, std::span<const double> radiosity)> onIteration;
+    std::optional<int> maxIterations;  // overrides the settings' (the viewer's bounce stepping)
+    std::optional<SolverKind> kind;  // overrides the settings' solver
+};
+
+// Wall time of each stage, seconds (0 for a stage not run).
+struct SessionTimings {
+    double loadSeconds = 0;  // scene file, wavelength set
+    double meshSeconds = 0;  // patches, E and M
+    double viewFactorSeconds = 0;  // F: the cache read or the build
+    double solveSeconds = 0;  // the last solve
+};
+
+class Session {
+public:
+    // Loads settings.scenePath (warnings logged), then chooses the wavelength set and builds the
+    // patches, E and M; F is built on first need. `afterLoad`, when given, runs on the loaded
+    // scene before any other work, so a setting that depends on the scene fails fast.
+    static Expected<Session> open(SessionSettings settings,
+                                  const std::function<Expected<void>(const Scene&)>& afterLoad = {});
+    // The same from a scene in memory (the stress suite, tests, bench rows).
+    static Expected<Session> fromScene(Scene scene, SessionSettings settings);
+
+    Session(Session&&) noexcept;
+    Session& operator=(Session&&) noexcept;
+    ~Session();
+
+    const SessionSettings& settings() const;
+    const Scene& scene() const;
+    const SceneSpectralFacts& facts() const;
+    const WavelengthSet& wavelengths() const;
+    const PatchMesh& patches() const;
+    double patchMaxEdge() const;  // the --subdivide used (0 = the input triangles)
+    bool automaticPatchSize() const;  // patchMaxEdge chosen by chooseAutoPatchSize
+    const RadiositySystem& system() const;
+    std::size_t fluorescentOperatorCount() const;  // operators with off-diagonal entries
+    const SessionTimings& timings() const;
+
+    // ---- F ----
+    MatrixEstimate matrixEstimate() const;
+    // The cache key of F for these patches and settings (pipeline/formfactor_cache.h).
+    FormFactorKey formFactorKey() const;
+    // True when the disk cache holds F for this key (a header check, no read).
+    bool formFactorsCached() const;
+    // Makes F available: from memory (no work), the disk cache, or the backend (then stored in
+    // the cache). Refuses a matrix over maxMemoryBytes before building. A cancelled build is an
+    // error saying so, and leaves no F.
+    Expected<FormFactorReport> buildFormFactors(const CancelToken* cancel = nullptr);
+    // Builds F on the backend, bypassing the cache in both directions (validate, bench).
+    Expected<FormFactorReport> buildFormFactorsUncached(const std::string& backend,
+                                                        const CancelToken* cancel = nullptr);
+    bool hasFormFactors() const;
+    const SparseMatrix& formFactors() const;  // precondition: hasFormFactors()
+    std::span<const double> formFactorRowSums() const;  // precondition: hasFormFactors()
+    const SparseMatrix& formFactorTranspose() const;  // computed on first use
+    uint64_t formFactorBuildCount() const;  // times a backend built F for this session
+    // Uses `matrix` as F (a matrix computed elsewhere: tests, the stress suite's own drivers).
+    void setFormFactors(SparseMatrix matrix);
+
+    // ---- edits (F untouched) ----
+    // Replaces material `index` and rebuilds E and M; the solution is kept as the warm start.
+    // Errors name the material and leave the session as it was.
+    Expected<void> setMaterial(std::size_t index, Material material);
+    // Chooses a new wavelength set (E, M rebuilt; the solution is dropped: its size changes).
+    Expected<void> setWavelengths(const WavelengthSpec& spec, const std::string& text);
+
+    // ---- solve ----
+    // Solves B = E + M F B (building F first if needed). Not converging within the iteration
+    // limit is a warning (logged), not an error; cancellation returns the last iterate with
+    // cancelled = true.
+    Expected<SolverResult> solve(const SolveRequest& request = {});
+    bool hasSolution() const;
+    const SolverResult& solution() const;  // precondition: hasSolution()
+    // Sets B = E (the viewer's "reset to emission"; the next warm start starts there).
+    void resetToEmission();
+    // Uses `radiosity` (n x m) as the solution (the bench's analytic furnace answer).
+    void setSolution(std::vector<double> radiosity);
+
+    // ---- display colours (of the solution; B = E when there is none) ----
+    // Per patch: [L_0 .. L_{m-1} when spectral] X Y Z 1, where L = B / pi is the radiance of a
+    // Lambertian patch (W m^-2 sr^-1 nm^-1) and XYZ its CIE 1931 tristimulus values; the last
+    // channel is a coverage of 1 for the renderer. patchCount x channels, row-major.
+    std::vector<float> patchChannels(bool spectral) const;
+    static int channelCount(std::size_t wavelengthCount, bool spectral);
+    // Radiance XYZ per patch.
+    std::vector<Xyz> patchRadianceXyz() const;
+    // The same smoothed per patch corner (pipeline/vertex_radiance.h): patchCount x 3 corners x
+    // channels, for rasterising and ray-cast images.
+    std::vector<float> cornerChannels(bool spectral) const;
+    // Linear sRGB radiance per patch corner (patchCount x 3 x 3), times `scale`.
+    std::vector<float> cornerLinearSrgb(double scale = 1) const;
+
+    struct State;  // opaque: defined in session.cpp
+
+private:
+    explicit Session(std::unique_ptr<State> state);
+    std::unique_ptr<State> state_;
+};
+
+}  // namespace daisy
