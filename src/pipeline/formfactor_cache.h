@@ -39,7 +39,7 @@ struct FormFactorKey {
 FormFactorKey formFactorKey(const PatchMesh& patches, const FormFactorSettings& settings,
                             std::string_view backendFamily);
 
-// 128-bit FNV-1a (Fowler, Noll, Vo; IETF draft-eastlake-fnv-21 section 2.2: offset basis
+// 128-bit FNV-1a (Fowler, Noll, Vo; IETF draft-eastlake-fnv: offset basis
 // 0x6c62272e07bb014262b821756295c58d, prime 2^88 + 0x13b), byte by byte. The key's hash.
 class Fnv1a128 {
 public:
