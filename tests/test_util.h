@@ -40,11 +40,30 @@ struct RunResult {
     std::string output;  // stdout and stderr, interleaved
 };
 
+// The form-factor cache folder of the running test's `daisy` runs (XDG_CACHE_HOME/daisyriot):
+// emptied when a test first uses it, so no test sees another's cached matrices, while the runs
+// within one test share it.
+inline std::filesystem::path testCacheHome() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string(info->test_suite_name()) + "." + info->name();
+    for (char& c : name) {
+        if (c == '/') c = '_';
+    }
+    const auto dir = std::filesystem::temp_directory_path() / "daisy_tests_cache" / name;
+    static std::string lastTest;
+    if (lastTest != name) {
+        std::filesystem::remove_all(dir);
+        lastTest = name;
+    }
+    return dir;
+}
+
 // Runs the built `daisy` executable with `arguments` (shell words) and returns its exit status
-// and output.
+// and output. Its default form-factor cache is the test's own (testCacheHome).
 inline RunResult runDaisy(const std::string& arguments) {
     RunResult result;
-    const std::string command = std::string(DAISY_EXE_PATH) + " " + arguments + " 2>&1";
+    const std::string command = "XDG_CACHE_HOME='" + testCacheHome().string() + "' " +
+        std::string(DAISY_EXE_PATH) + " " + arguments + " 2>&1";
     FILE* pipe = popen(command.c_str(), "r");
     if (!pipe) return result;
     std::array<char, 4096> buffer;

@@ -25,9 +25,10 @@ SessionSettings sessionSettingsFrom(const CommonOptions& options, PatchSizeDefau
     settings.solver.maxIterations = options.maxIterations;
     settings.solver.threads = options.threads;
     if (!options.noCache) {
-        settings.cacheDirectory = options.cacheDir.empty()
+        const std::filesystem::path directory = options.cacheDir.empty()
             ? FormFactorCache::defaultDirectory()
             : std::filesystem::path(options.cacheDir);
+        if (!directory.empty()) settings.cacheDirectory = directory;  // empty: no HOME
     }
     settings.maxMemoryBytes = options.maxMemoryBytes;
     return settings;

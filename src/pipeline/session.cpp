@@ -326,7 +326,10 @@ Expected<void> Session::setMaterial(std::size_t index, Material material) {
     edited.materials[index] = std::move(material);
     Timer timer;
     auto system = buildRadiositySystem(edited, s.patches, s.wavelengths);
-    if (!system) return system.error();
+    if (!system) {
+        return Error{concat("material '", edited.materials[index].name,
+                            "' not changed: ", system.error().message)};
+    }
     s.scene.materials[index] = std::move(edited.materials[index]);
     s.system = std::move(*system);
     s.fluorescentOperators = countFluorescent(s.system);

@@ -68,7 +68,7 @@ TEST(FormFactorsCli, CudaBackendNotBuiltYetIsExitTwo) {
     const RunResult run =
         runDaisy("formfactors " + kCornellBox + " -o /tmp/unused.mtx --quiet --backend cuda");
     EXPECT_EQ(run.status, 2) << run.output;
-    EXPECT_NE(run.output.find("backend 'cuda' is not built yet"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("backend 'cuda' is not built into this binary"), std::string::npos) << run.output;
 }
 
 // An unwritable output is a failure (exit 1) naming the path, with no partial file.

@@ -1,0 +1,231 @@
+// The session (pipeline/session.h): F is built once and reused across material and wavelength
+// edits (checked by the session's build counter, not by timing), warm starts, cancellation, and
+// the disk cache reached through the session.
+#include "pipeline/session.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+
+#include "test_util.h"
+
+namespace daisy {
+namespace {
+
+const std::string kCornellBox = test::assetPath("scenes/cornell_box.gltf");
+
+// The Cornell box at 920 patches on the cpu backend, solved to 1e-6 (so iteration counts are
+// large enough to compare), without a disk cache unless `cache` is given.
+SessionSettings cornellSettings(std::optional<std::filesystem::path> cache = std::nullopt) {
+    SessionSettings settings;
+    settings.scenePath = kCornellBox;
+    settings.backend = "cpu";
+    settings.subdivideMaxEdge = 0.1;
+    settings.formFactors.progress = false;
+    settings.solver.tolerance = 1e-6;
+    settings.cacheDirectory = cache;
+    settings.logStages = false;
+    return settings;
+}
+
+Session openOk(SessionSettings settings) {
+    auto session = Session::open(std::move(settings));
+    EXPECT_TRUE(session.ok()) << (session.ok() ? "" : session.error().message);
+    return std::move(*session);
+}
+
+std::size_t materialIndex(const Session& session, const std::string& name) {
+    const auto& materials = session.scene().materials;
+    for (std::size_t i = 0; i < materials.size(); ++i)
+        if (materials[i].name == name) return i;
+    ADD_FAILURE() << "no material " << name;
+    return 0;
+}
+
+// Mean reflected luminance Y of the patches of material `index`.
+double meanY(const Session& session, std::size_t index) {
+    const std::vector<Xyz> xyz = session.patchRadianceXyz();
+    double sum = 0, area = 0;
+    for (uint32_t i = 0; i < session.patches().patchCount(); ++i) {
+        if (session.patches().materials[i] != index) continue;
+        sum += session.patches().areas[i] * xyz[i][1];
+        area += session.patches().areas[i];
+    }
+    return area > 0 ? sum / area : 0;
+}
+
+// Editing a material rebuilds E and M only: F is built exactly once, the re-solve starts warm
+// and lands on the answer a fresh session with the edited material computes from scratch.
+TEST(Session, MaterialEditResolvesWithoutRebuildingF) {
+    Session session = openOk(cornellSettings());
+    ASSERT_TRUE(session.solve().ok());
+    EXPECT_EQ(session.formFactorBuildCount(), 1u);
+    const std::size_t white = materialIndex(session, "white");
+    const double before = meanY(session, white);
+
+    Material darker = session.scene().materials[white];
+    darker.spectral.reflectance.reset();
+    darker.baseColor = {0.2, 0.2, 0.2};
+    ASSERT_TRUE(session.setMaterial(white, darker).ok());
+    auto warm = session.solve();
+    ASSERT_TRUE(warm.ok()) << warm.error().message;
+    EXPECT_EQ(session.formFactorBuildCount(), 1u);
+    EXPECT_TRUE(warm->converged);
+    const double after = meanY(session, white);
+    EXPECT_LT(after, 0.5 * before);  // reflectance 0.2 instead of ~0.75: far darker walls
+
+    // The oracle: a cold solve of the edited scene in a fresh session (its own F, same seed).
+    Session fresh = openOk(cornellSettings());
+    ASSERT_TRUE(fresh.setMaterial(white, darker).ok());
+    ASSERT_TRUE(fresh.solve().ok());
+    const auto& a = session.solution().radiosity;
+    const auto& b = fresh.solution().radiosity;
+    ASSERT_EQ(a.size(), b.size());
+    double diff = 0, norm = 0;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        diff += std::abs(a[k] - b[k]);
+        norm += std::abs(b[k]);
+    }
+    EXPECT_LT(diff / norm, 1e-5);  // both within the 1e-6 residual of the same solution
+}
+
+// Warm start: after a small edit, starting from the last B takes fewer iterations than from E,
+// for every solver.
+TEST(Session, WarmStartConvergesInFewerIterationsThanCold) {
+    for (SolverKind kind : {SolverKind::GaussSeidel, SolverKind::Jacobi, SolverKind::Southwell}) {
+        SessionSettings settings = cornellSettings();
+        settings.solver.kind = kind;
+        Session session = openOk(settings);
+        ASSERT_TRUE(session.solve().ok());
+        const std::size_t red = materialIndex(session, "red");
+        Material edited = session.scene().materials[red];
+        edited.spectral.reflectance.reset();
+        edited.baseColor = {0.6, 0.1, 0.1};
+        ASSERT_TRUE(session.setMaterial(red, edited).ok());
+
+        auto warm = session.solve();
+        ASSERT_TRUE(warm.ok());
+        SolveRequest coldRequest;
+        coldRequest.warmStart = false;
+        auto cold = session.solve(coldRequest);
+        ASSERT_TRUE(cold.ok());
+        EXPECT_TRUE(warm->converged && cold->converged) << solverKindName(kind);
+        EXPECT_LT(warm->iterations, cold->iterations) << solverKindName(kind);
+        EXPECT_EQ(session.formFactorBuildCount(), 1u);
+    }
+}
+
+// Cancellation: a token cancelled during the second iteration stops the solve there, with the
+// status set and the last iterate kept (finite), and no error.
+TEST(Session, CancelledSolveReturnsPromptlyWithStatus) {
+    Session session = openOk(cornellSettings());
+    ASSERT_TRUE(session.buildFormFactors().ok());
+    CancelToken token;
+    SolveRequest request;
+    request.cancel = &token;
+    request.onIteration = [&](int iteration, std::span<const double>) {
+        if (iteration == 2) token.cancel();
+    };
+    auto solved = session.solve(request);
+    ASSERT_TRUE(solved.ok()) << solved.error().message;
+    EXPECT_TRUE(solved->cancelled);
+    EXPECT_FALSE(solved->converged);
+    EXPECT_EQ(solved->iterations, 2);
+    EXPECT_NE(solved->warning.find("cancelled"), std::string::npos) << solved->warning;
+    for (double b : solved->radiosity)
+        ASSERT_TRUE(std::isfinite(b));
+
+    // Already cancelled: no iteration at all.
+    request.onIteration = {};
+    auto none = session.solve(request);
+    ASSERT_TRUE(none.ok());
+    EXPECT_TRUE(none->cancelled);
+    EXPECT_EQ(none->iterations, 0);
+}
+
+// A cancelled F build is an error that says so, and leaves no F.
+TEST(Session, CancelledFormFactorBuildLeavesNoMatrix) {
+    Session session = openOk(cornellSettings());
+    CancelToken token;
+    token.cancel();
+    auto built = session.buildFormFactors(&token);
+    ASSERT_FALSE(built.ok());
+    EXPECT_NE(built.error().message.find("interrupted"), std::string::npos)
+        << built.error().message;
+    EXPECT_FALSE(session.hasFormFactors());
+}
+
+// The disk cache through the session: the second session reads F (bit for bit) instead of
+// building it, also after a material and a wavelength-set change, which F does not depend on;
+// a change of the rays per pair is another key.
+TEST(Session, DiskCacheIsReusedAcrossMaterialAndWavelengthChanges) {
+    const auto cache = test::testTempDir() / "cache";
+    Session first = openOk(cornellSettings(cache));
+    auto built = first.buildFormFactors();
+    ASSERT_TRUE(built.ok());
+    EXPECT_FALSE(built->fromCache);
+    EXPECT_TRUE(built->cacheWarning.empty()) << built->cacheWarning;
+    EXPECT_TRUE(first.formFactorsCached());
+
+    SessionSettings other = cornellSettings(cache);
+    other.wavelengths = *parseWavelengthSpec("visible");
+    other.wavelengthsText = "visible";
+    Session second = openOk(other);
+    const std::size_t white = materialIndex(second, "white");
+    Material edited = second.scene().materials[white];
+    edited.baseColor = {0.3, 0.5, 0.3};
+    edited.spectral.reflectance.reset();
+    ASSERT_TRUE(second.setMaterial(white, edited).ok());
+    auto read = second.buildFormFactors();
+    ASSERT_TRUE(read.ok());
+    EXPECT_TRUE(read->fromCache);
+    EXPECT_EQ(second.formFactorBuildCount(), 0u);
+    const SparseMatrix& a = first.formFactors();
+    const SparseMatrix& b = second.formFactors();
+    EXPECT_EQ(a.rowOffsets, b.rowOffsets);
+    EXPECT_EQ(a.columns, b.columns);
+    ASSERT_EQ(a.values.size(), b.values.size());
+    EXPECT_EQ(std::memcmp(a.values.data(), b.values.data(), a.values.size() * sizeof(float)), 0);
+    EXPECT_EQ(read->stats.raysCast, built->stats.raysCast);
+    ASSERT_TRUE(second.solve().ok());
+
+    SessionSettings moreRays = cornellSettings(cache);
+    moreRays.formFactors.raysPerPair = 8;
+    Session third = openOk(moreRays);
+    EXPECT_FALSE(third.formFactorsCached());
+}
+
+// A wavelength edit keeps F and drops the solution (its size changes).
+TEST(Session, WavelengthEditKeepsF) {
+    Session session = openOk(cornellSettings());
+    ASSERT_TRUE(session.solve().ok());
+    ASSERT_TRUE(session.setWavelengths(*parseWavelengthSpec("meyer4"), "meyer4").ok());
+    EXPECT_FALSE(session.hasSolution());
+    EXPECT_EQ(session.system().wavelengthCount, 4u);
+    ASSERT_TRUE(session.solve().ok());
+    EXPECT_EQ(session.solution().radiosity.size(), session.patches().patchCount() * 4u);
+    EXPECT_EQ(session.formFactorBuildCount(), 1u);
+}
+
+// A bad edit (a tabulated reflectance over 1) is refused with the material's name and leaves the
+// session as it was.
+TEST(Session, InvalidMaterialEditIsRefused) {
+    Session session = openOk(cornellSettings());
+    const std::size_t red = materialIndex(session, "red");
+    const RadiositySystem before = session.system();
+    Material bad = session.scene().materials[red];
+    bad.spectral.reflectance = SpectrumSpec{TabulatedSpectrum{{400, 700}, {1.5, 1.5}}, 1.0};
+    auto edited = session.setMaterial(red, bad);
+    ASSERT_FALSE(edited.ok());
+    EXPECT_NE(edited.error().message.find("red"), std::string::npos) << edited.error().message;
+    EXPECT_EQ(session.system().operators.size(), before.operators.size());
+    EXPECT_EQ(session.system().emission, before.emission);
+    const auto& kept = session.scene().materials[red].spectral.reflectance;
+    EXPECT_FALSE(kept && std::holds_alternative<TabulatedSpectrum>(kept->shape) &&
+                 std::get<TabulatedSpectrum>(kept->shape).values[0] == 1.5);
+}
+
+}  // namespace
+}  // namespace daisy
