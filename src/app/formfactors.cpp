@@ -6,6 +6,7 @@
 
 #include "app/commands.h"
 #include "app/pipeline.h"
+#include "core/atomic_file.h"
 #include "core/log.h"
 #include "core/progress.h"
 #include "core/strings.h"
@@ -45,6 +46,11 @@ void printVerboseStats(const FormFactorStats& s) {
 }  // namespace
 
 int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
+    auto reserved = reserveOutputs({exports.matrixPath, exports.patchesPath});
+    if (!reserved) {
+        logError(reserved.error().message);
+        return 2;
+    }
     auto loaded = loadScenePatches(options);
     if (!loaded) {
         logError(loaded.error().message);

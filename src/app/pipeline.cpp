@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "core/interrupt.h"
 #include "core/log.h"
 #include "core/progress.h"
 #include "core/strings.h"
@@ -18,6 +19,7 @@ FormFactorSettings formFactorSettingsFrom(const CommonOptions& options) {
     settings.seed = options.seed;
     settings.threads = options.threads;
     settings.maxMemoryBytes = options.maxMemoryBytes;
+    settings.cancel = &interruptToken();
     return settings;
 }
 

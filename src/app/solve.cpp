@@ -8,6 +8,7 @@
 
 #include "app/commands.h"
 #include "app/pipeline.h"
+#include "core/atomic_file.h"
 #include "core/log.h"
 #include "core/strings.h"
 #include "radiosity/energy.h"
@@ -75,6 +76,11 @@ Expected<void> writeSolvedPatches(const std::string& path, const Scene& scene,
 }  // namespace
 
 int runSolve(const CommonOptions& options, const ExportOptions& exports) {
+    auto reserved = reserveOutputs({exports.patchesPath});
+    if (!reserved) {
+        logError(reserved.error().message);
+        return 2;
+    }
     auto solved = solveScene(options, DefaultPatchSize::InputTriangles);
     if (!solved) {
         logError(solved.error().message);
