@@ -7,6 +7,8 @@
 
 #include "app/commands.h"
 #include "app/session_options.h"
+#include "core/atomic_file.h"
+#include "core/interrupt.h"
 #include "core/log.h"
 #include "core/progress.h"
 #include "core/strings.h"
@@ -46,9 +48,14 @@ void printVerboseStats(const FormFactorStats& s) {
 }  // namespace
 
 int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
+    auto reserved = reserveOutputs({exports.matrixPath, exports.patchesPath});
+    if (!reserved) {
+        logError(reserved.error().message);
+        return 2;
+    }
     auto session = openSession(options, PatchSizeDefault::InputTriangles);
     if (!session) return 2;
-    auto run = session->buildFormFactors();
+    auto run = session->buildFormFactors(&interruptToken());
     if (!run) {
         logError(run.error().message);
         return 2;

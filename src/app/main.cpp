@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "app/commands.h"
+#include "core/interrupt.h"
 #include "core/log.h"
 #include "pipeline/backend_registry.h"
 
@@ -123,6 +124,8 @@ int main(int argc, char** argv) {
         return 2;
     }
 
+    // SIGINT / SIGTERM: temporaries removed, one line, exit 130 (core/interrupt.h).
+    daisy::installInterruptHandlers();
     finishCommonOptions(common);
     daisy::setVerbosity(common.quiet         ? daisy::Verbosity::Quiet
                             : common.verbose ? daisy::Verbosity::Verbose

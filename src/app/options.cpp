@@ -28,6 +28,20 @@ const CLI::Validator kByteSize(
     },
     "BYTES", "memory size");
 
+// --tolerance: a relative residual in [1e-12, 0.5]; says so with the value given.
+const CLI::Validator kTolerance(
+    [](std::string& text) {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0' || !(value >= 1e-12 && value <= 0.5)) {
+            return concat("'", text,
+                          "' is not a relative residual to stop at: give a number from 1e-12 to "
+                          "0.5 (default 1e-4; 0 would never stop)");
+        }
+        return std::string();
+    },
+    "T", "tolerance");
+
 }  // namespace
 
 SceneLoadOptions CommonOptions::sceneLoadOptions() const {
@@ -35,6 +49,7 @@ SceneLoadOptions CommonOptions::sceneLoadOptions() const {
     load.mtlConvention =
         mtlConvention == "daisyriot" ? MtlConvention::DaisyRiot : MtlConvention::Standard;
     load.materialsPath = materialsPath;
+    load.maxMemoryBytes = maxMemoryBytes;
     return load;
 }
 
@@ -74,7 +89,7 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
         ->check(CLI::IsMember(solverKindNames()))
         ->capture_default_str();
     command.add_option("--tolerance", options.tolerance, "Relative residual to stop at")
-        ->check(CLI::Range(1e-12, 0.5))
+        ->check(kTolerance)
         ->capture_default_str();
     command.add_option("--max-iterations", options.maxIterations, "Iteration limit")
         ->check(CLI::Range(1, 100000000))

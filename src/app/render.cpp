@@ -12,6 +12,8 @@
 
 #include "app/commands.h"
 #include "app/session_options.h"
+#include "core/atomic_file.h"
+#include "core/interrupt.h"
 #include "core/log.h"
 #include "core/memory.h"
 #include "core/progress.h"
@@ -95,13 +97,11 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
         return 2;
     }
     const auto background = parseBackground(render.background);  // CLI11 checked it
-    // An output directory that does not exist fails now, not after the solve.
-    const std::filesystem::path directory =
-        std::filesystem::absolute(render.outputPath).parent_path();
-    if (!std::filesystem::is_directory(directory)) {
-        logError(
-            concat(render.outputPath, ": the directory ", directory.string(), " does not exist"));
-        return 1;
+    // An unwritable output fails now, not after the solve (core/atomic_file.h).
+    auto reserved = AtomicOutput::open(render.outputPath);
+    if (!reserved) {
+        logError(reserved.error().message);
+        return 2;
     }
 
     // The camera is chosen as soon as the scene is loaded, so a bad --camera fails fast. The
@@ -127,12 +127,12 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     };
     auto session = openSession(options, PatchSizeDefault::Automatic, chooseCameraFor);
     if (!session) return 2;
-    auto formFactors = session->buildFormFactors();
+    auto formFactors = session->buildFormFactors(&interruptToken());
     if (!formFactors) {
         logError(formFactors.error().message);
         return 2;
     }
-    auto solved = session->solve();
+    auto solved = session->solve(interruptibleSolve());
     if (!solved) {
         logError(solved.error().message);
         return 2;
@@ -153,6 +153,7 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     settings.height = height;
     settings.samplesPerPixel = render.samplesPerPixel;
     settings.threads = options.threads;
+    settings.maxMemoryBytes = options.maxMemoryBytes;
     const std::vector<float> missValue(std::size_t(channels), 0.0f);
     auto rendered =
         renderCornerValues(session->patches(), camera, settings, corners, channels, missValue);

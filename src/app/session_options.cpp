@@ -1,5 +1,6 @@
 #include "app/session_options.h"
 
+#include "core/interrupt.h"
 #include "core/log.h"
 
 namespace daisy::app {
@@ -39,6 +40,16 @@ Expected<Session> openSession(const CommonOptions& options, PatchSizeDefault def
     auto session = Session::open(sessionSettingsFrom(options, defaultSize), afterLoad);
     if (!session) logError(session.error().message);
     return session;
+}
+
+}  // namespace daisy::app
+
+namespace daisy::app {
+
+SolveRequest interruptibleSolve() {
+    SolveRequest request;
+    request.cancel = &interruptToken();
+    return request;
 }
 
 }  // namespace daisy::app

@@ -14,4 +14,7 @@ SessionSettings sessionSettingsFrom(const CommonOptions& options, PatchSizeDefau
 Expected<Session> openSession(const CommonOptions& options, PatchSizeDefault defaultSize,
                               const std::function<Expected<void>(const Scene&)>& afterLoad = {});
 
+// A solve that SIGINT / SIGTERM cancel (core/interrupt.h).
+SolveRequest interruptibleSolve();
+
 }  // namespace daisy::app

@@ -8,6 +8,8 @@
 
 #include "app/commands.h"
 #include "app/session_options.h"
+#include "core/atomic_file.h"
+#include "core/interrupt.h"
 #include "core/log.h"
 #include "core/strings.h"
 #include "radiosity/energy.h"
@@ -77,9 +79,14 @@ Expected<void> writeSolvedPatches(const std::string& path, const Session& sessio
 }  // namespace
 
 int runSolve(const CommonOptions& options, const ExportOptions& exports) {
+    auto reserved = reserveOutputs({exports.patchesPath});
+    if (!reserved) {
+        logError(reserved.error().message);
+        return 2;
+    }
     auto session = openSession(options, PatchSizeDefault::InputTriangles);
     if (!session) return 2;
-    auto solved = session->solve();
+    auto solved = session->solve(interruptibleSolve());
     if (!solved) {
         logError(solved.error().message);
         return 2;

@@ -134,6 +134,7 @@ Expected<FormFactorResult> build(const PatchMesh& mesh, const FormFactorSettings
         std::vector<PairFactors> results;
         Cursor cursor;
         while (true) {
+            if (isCancelled(settings.cancel)) return Error{kInterruptedMessage};
             cursor = nextBatch(geometry, cursor, capacity, batch);
             if (batch.empty()) break;
             results.assign(batch.size(), PairFactors{0.0f, 0.0f});

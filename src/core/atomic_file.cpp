@@ -1,18 +1,48 @@
 #include "core/atomic_file.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
+#include <utility>
+#include <vector>
+
+#include "core/interrupt.h"
 
 namespace daisy {
+namespace {
+
+std::string cannotWrite(const std::string& path, const std::string& reason) {
+    return path + ": cannot write: " + reason;
+}
+
+// Why `path` cannot name an output file, or "" when it can.
+std::string outputProblem(const std::string& path) {
+    if (path.empty()) return "the path is empty";
+    struct stat info {};
+    if (stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) return "it is a directory";
+    return {};
+}
+
+}  // namespace
+
+std::string temporaryPathFor(const std::string& path) {
+    return path + ".tmp-" + std::to_string(getpid());
+}
 
 Expected<void> writeFileAtomically(const std::string& path,
                                    const std::function<std::string(std::FILE*)>& write) {
-    const std::string temporary = path + ".tmp-" + std::to_string(getpid());
+    if (const std::string problem = outputProblem(path); !problem.empty()) {
+        return Error{cannotWrite(path, problem)};
+    }
+    const std::string temporary = temporaryPathFor(path);
+    registerTempFile(temporary);
     std::FILE* file = std::fopen(temporary.c_str(), "wb");
     if (file == nullptr) {
-        return Error{path + ": cannot write: " + std::strerror(errno)};
+        const int openErrno = errno;
+        unregisterTempFile(temporary);
+        return Error{cannotWrite(path, std::strerror(openErrno))};
     }
     std::string message = write(file);
     const bool streamFailed = std::ferror(file) != 0;
@@ -25,11 +55,62 @@ Expected<void> writeFileAtomically(const std::string& path,
         message =
             std::string("cannot rename the temporary file into place: ") + std::strerror(errno);
     }
-    if (!message.empty()) {
-        std::remove(temporary.c_str());
-        return Error{path + ": " + message};
-    }
+    if (!message.empty()) std::remove(temporary.c_str());
+    unregisterTempFile(temporary);
+    if (!message.empty()) return Error{path + ": " + message};
     return {};
+}
+
+Expected<AtomicOutput> AtomicOutput::open(const std::string& path) {
+    if (const std::string problem = outputProblem(path); !problem.empty()) {
+        return Error{cannotWrite(path, problem)};
+    }
+    const std::string temporary = temporaryPathFor(path);
+    registerTempFile(temporary);
+    std::FILE* file = std::fopen(temporary.c_str(), "wb");
+    if (file == nullptr) {
+        const int openErrno = errno;
+        unregisterTempFile(temporary);
+        return Error{cannotWrite(path, std::strerror(openErrno))};
+    }
+    std::fclose(file);
+    AtomicOutput output;
+    output.path_ = path;
+    return output;
+}
+
+AtomicOutput::AtomicOutput(AtomicOutput&& other) noexcept
+    : path_(std::exchange(other.path_, std::string())) {}
+
+AtomicOutput& AtomicOutput::operator=(AtomicOutput&& other) noexcept {
+    if (this != &other) {
+        release();
+        path_ = std::exchange(other.path_, std::string());
+    }
+    return *this;
+}
+
+AtomicOutput::~AtomicOutput() {
+    release();
+}
+
+void AtomicOutput::release() {
+    if (path_.empty()) return;
+    const std::string temporary = temporaryPathFor(path_);
+    std::remove(temporary.c_str());  // absent once writeFileAtomically renamed it into place
+    unregisterTempFile(temporary);
+    path_.clear();
+}
+
+Expected<std::vector<AtomicOutput>> reserveOutputs(const std::vector<std::string>& paths) {
+    std::vector<AtomicOutput> outputs;
+    for (const std::string& path : paths) {
+        if (path.empty()) continue;
+        auto output = AtomicOutput::open(path);
+        if (!output) return output.error();
+        outputs.push_back(std::move(*output));
+    }
+    return outputs;
 }
 
 }  // namespace daisy

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -16,6 +17,9 @@ namespace daisy {
 
 namespace {
 
+// Well inside Embree's FLT_LARGE (1.844e18), and what scene/validate_scene.h allows for scenes.
+constexpr double kMaxRayOrigin = 1e17;
+
 // Samples per pixel side: N = ceil(sqrt(spp)), at least 1.
 int samplesPerSide(int samplesPerPixel) {
     int n = 1;
@@ -26,6 +30,11 @@ int samplesPerSide(int samplesPerPixel) {
 
 }  // namespace
 
+uint64_t renderImageBytes(const RenderSettings& settings, int channels) {
+    return uint64_t(std::max(settings.width, 0)) * uint64_t(std::max(settings.height, 0)) *
+        uint64_t(std::max(channels, 0)) * sizeof(float) * 3;
+}
+
 Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                                    const RenderSettings& settings, std::span<const float> corners,
                                    int channels, std::span<const float> background) {
@@ -35,6 +44,21 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
     if (settings.width <= 0 || settings.height <= 0 || settings.samplesPerPixel <= 0) {
         return Error{concat("render: image size ", settings.width, " x ", settings.height, " and ",
                             settings.samplesPerPixel, " samples per pixel must all be positive")};
+    }
+    if (const uint64_t bytes = renderImageBytes(settings, channels);
+        settings.maxMemoryBytes != 0 && bytes > settings.maxMemoryBytes) {
+        return Error{concat("render: a ", settings.width, " x ", settings.height, " image of ",
+                            channels, " channels needs about ", formatBytes(double(bytes)),
+                            ", over --max-memory ", formatBytes(double(settings.maxMemoryBytes)))};
+    }
+    // Embree asserts on rays it cannot represent (ray.valid(): |origin| under 1.8e18, finite
+    // direction); scenes are range-checked on load, but a camera may come from elsewhere.
+    if (!isFinite(camera.position) || !isFinite(camera.forward) || !isFinite(camera.up) ||
+        std::max({std::abs(camera.position.x), std::abs(camera.position.y),
+                  std::abs(camera.position.z)}) > kMaxRayOrigin) {
+        return Error{concat("render: camera '", camera.name, "' at ", camera.position,
+                            " is outside what float32 ray tracing represents (coordinates up to ",
+                            formatNumber(kMaxRayOrigin), ")")};
     }
     auto caster = EmbreeRayCaster::create(mesh);
     if (!caster) return withContext(caster.error(), "render");

@@ -3,6 +3,7 @@
 // patch and its barycentric coordinates, and barycentric interpolation of per-corner values
 // (vertex_radiance.h). N x N stratified supersampling per pixel (box filter); rays that miss
 // get the background value. Parallel over rows (TBB); deterministic.
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -18,11 +19,17 @@ struct RenderSettings {
     int height = 480;
     int samplesPerPixel = 1;  // N x N per pixel where N = ceil(sqrt(spp)); 1 = pixel centre
     int threads = 0;  // 0 = all hardware threads
+    uint64_t maxMemoryBytes = 0;  // --max-memory: refuse images needing more; 0 = no limit
 };
+
+// Bytes of the rendered image and the copies a front end makes of it (exposure, RGB): about
+// three float images of `channels` channels.
+uint64_t renderImageBytes(const RenderSettings& settings, int channels);
 
 // Renders `channels` values per pixel from per-corner values (cornerValues()'s layout). A pixel
 // is the mean of its samples; a sample that misses takes background[c] (background.size() ==
-// channels). Fails (no crash) when Embree cannot build the scene.
+// channels). Fails (no crash) when Embree cannot build the scene, when the camera lies outside
+// what float32 rays represent, and when renderImageBytes exceeds settings.maxMemoryBytes.
 Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                                    const RenderSettings& settings, std::span<const float> corners,
                                    int channels, std::span<const float> background);

@@ -559,13 +559,17 @@ Expected<FormFactorResult> PairLoop::run() {
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blockCluster_.size() - 1, 1),
                           [&](const tbb::blocked_range<std::size_t>& range) {
                               FormFactorStats local;
-                              for (std::size_t block = range.begin(); block != range.end(); ++block)
+                              for (std::size_t block = range.begin(); block != range.end();
+                                   ++block) {
+                                  if (isCancelled(settings_.cancel)) break;
                                   computeBlock(block, scratch.local(), local, progress);
+                              }
                               std::lock_guard<std::mutex> lock(statsMutex);
                               addStats(stats_, local);
                           });
     }
     stats_.pairSeconds = secondsSince(pairStart);
+    if (isCancelled(settings_.cancel)) return Error{kInterruptedMessage};
 
     const auto compactStart = std::chrono::steady_clock::now();
     candidates_.words = {};

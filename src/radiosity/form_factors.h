@@ -50,9 +50,13 @@ struct FormFactorSettings {
     uint64_t maxMemoryBytes = 0;  // refuse a build needing more; 0 = no limit
     bool shaftCulling = true;  // off only to measure what it saves
     bool progress = true;  // progress line on a terminal (core/progress.h decides if shown)
-    // Polled by the pair loops; when cancelled the build stops with an "interrupted" error.
+    // Polled between row blocks / batches; when cancelled the build stops and returns the Error
+    // kInterruptedMessage. Null = never cancelled. interruptToken() (core/interrupt.h) for SIGINT.
     const CancelToken* cancel = nullptr;
 };
+
+// The message of a build stopped by FormFactorSettings::cancel.
+inline constexpr const char* kInterruptedMessage = "interrupted";
 
 struct FormFactorStats {
     uint64_t patches = 0;

@@ -58,6 +58,7 @@ Expected<FormFactorResult> computeStochastic(const PatchMesh& mesh,
         Progress progress("stochastic rays", uint64_t(n) * uint64_t(rayCount), "rays",
                           settings.progress && progressEnabledByDefault());
         tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
+            if (isCancelled(settings.cancel)) return;
             Chunk& chunk = chunks[c];
             std::vector<Ray> batch(static_cast<std::size_t>(rayCount));
             std::vector<uint32_t> hits(batch.size());
@@ -90,6 +91,7 @@ Expected<FormFactorResult> computeStochastic(const PatchMesh& mesh,
             }
         });
     }
+    if (isCancelled(settings.cancel)) return Error{kInterruptedMessage};
     SparseMatrix raw = SparseMatrix::zeros(n);
     for (const Chunk& chunk : chunks) {
         raw.columns.insert(raw.columns.end(), chunk.columns.begin(), chunk.columns.end());

@@ -201,7 +201,7 @@ Expected<void> applySparse(const tinygltf::Model& model, const tinygltf::Accesso
 // component type one of `componentTypes` (described to the user as `required`).
 Expected<std::vector<double>> readAccessor(const tinygltf::Model& model, int index, int type,
                                            std::initializer_list<int> componentTypes,
-                                           const char* required) {
+                                           const char* required, LoadBudget& budget) {
     if (index < 0 || static_cast<std::size_t>(index) >= model.accessors.size()) {
         return Error{gltfOutOfRange("accessor", index, model.accessors.size())};
     }
@@ -218,6 +218,13 @@ Expected<std::vector<double>> readAccessor(const tinygltf::Model& model, int ind
         return Error{concat(where, ": count ", accessor.count, " exceeds ", kMaxElementCount)};
     }
     const Layout layout = layoutOf(type, accessor.componentType);
+    // The values as doubles plus the caller's typed copy: about twice this.
+    const uint64_t bytes = uint64_t(accessor.count) * layout.components * sizeof(double) * 2;
+    if (auto charged = budget.charge(
+            bytes, concat(where, ": count ", accessor.count, " (", typeName(type), ")"));
+        !charged) {
+        return charged.error();
+    }
     std::vector<double> values;
     if (accessor.bufferView != -1) {
         auto dense = readView(model, accessor.bufferView, accessor.byteOffset, accessor.count,
@@ -287,9 +294,10 @@ std::string gltfOutOfRange(const char* what, long long index, std::size_t count)
     return concat(what, " ", index, " is out of range (the file has ", count, ")");
 }
 
-Expected<std::vector<Vec3d>> readGltfPositions(const tinygltf::Model& model, int index) {
+Expected<std::vector<Vec3d>> readGltfPositions(const tinygltf::Model& model, int index,
+                                               LoadBudget& budget) {
     auto values = readAccessor(model, index, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT},
-                               "VEC3 FLOAT");
+                               "VEC3 FLOAT", budget);
     if (!values) return values.error();
     std::vector<Vec3d> positions(values->size() / 3);
     for (std::size_t i = 0; i < positions.size(); ++i) {
@@ -302,12 +310,13 @@ Expected<std::vector<Vec3d>> readGltfPositions(const tinygltf::Model& model, int
     return positions;
 }
 
-Expected<std::vector<uint32_t>> readGltfIndices(const tinygltf::Model& model, int index) {
+Expected<std::vector<uint32_t>> readGltfIndices(const tinygltf::Model& model, int index,
+                                                LoadBudget& budget) {
     auto values =
         readAccessor(model, index, TINYGLTF_TYPE_SCALAR,
                      {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
                       TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT},
-                     "SCALAR UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
+                     "SCALAR UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT", budget);
     if (!values) return values.error();
     std::vector<uint32_t> indices(values->size());
     std::transform(values->begin(), values->end(), indices.begin(),

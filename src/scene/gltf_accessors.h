@@ -11,6 +11,7 @@
 
 #include "core/expected.h"
 #include "geometry/vec3.h"
+#include "scene/load_budget.h"
 
 namespace tinygltf {
 class Model;
@@ -21,11 +22,14 @@ namespace daisy {
 // Accessor `index` as VEC3 FLOAT positions widened to double, in the accessor's own units.
 // Refuses other types, out-of-range references, data outside its buffer view or buffer, and
 // non-finite components.
-Expected<std::vector<Vec3d>> readGltfPositions(const tinygltf::Model& model, int index);
+Expected<std::vector<Vec3d>> readGltfPositions(const tinygltf::Model& model, int index,
+                                               LoadBudget& budget);
 
 // Accessor `index` as SCALAR UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT vertex indices.
-// The values are not checked against any vertex count.
-Expected<std::vector<uint32_t>> readGltfIndices(const tinygltf::Model& model, int index);
+// The values are not checked against any vertex count. Both charge what they allocate to
+// `budget` before allocating it.
+Expected<std::vector<uint32_t>> readGltfIndices(const tinygltf::Model& model, int index,
+                                                LoadBudget& budget);
 
 // An affine transform, column-major as glTF stores it: row r, column c is m[4 * c + r].
 using GltfMatrix = std::array<double, 16>;

@@ -15,7 +15,10 @@
 #include <vector>
 
 #include "core/strings.h"
+#include "scene/bounded_json.h"
 #include "scene/gltf_accessors.h"
+#include "scene/gltf_document.h"
+#include "scene/load_budget.h"
 #include "scene/material_extension.h"
 
 namespace daisy {
@@ -56,38 +59,17 @@ bool inRange(int index, std::size_t count) {
     return index >= 0 && static_cast<std::size_t>(index) < count;
 }
 
-// tinygltf's parsed JSON value as nlohmann::json (binary values cannot come from JSON: null).
-nlohmann::json toJson(const tinygltf::Value& value) {
-    switch (value.Type()) {
-        case tinygltf::BOOL_TYPE:
-            return value.Get<bool>();
-        case tinygltf::INT_TYPE:
-            return value.Get<int>();
-        case tinygltf::REAL_TYPE:
-            return value.Get<double>();
-        case tinygltf::STRING_TYPE:
-            return value.Get<std::string>();
-        case tinygltf::ARRAY_TYPE: {
-            nlohmann::json array = nlohmann::json::array();
-            for (const tinygltf::Value& element : value.Get<tinygltf::Value::Array>()) {
-                array.push_back(toJson(element));
-            }
-            return array;
-        }
-        case tinygltf::OBJECT_TYPE: {
-            nlohmann::json object = nlohmann::json::object();
-            for (const auto& [key, member] : value.Get<tinygltf::Value::Object>()) {
-                object[key] = toJson(member);
-            }
-            return object;
-        }
-        default:
-            return nullptr;
-    }
+// Member `key` of `object` when `object` is an object that has it, else nullptr.
+const nlohmann::json* findMember(const nlohmann::json* object, const char* key) {
+    if (object == nullptr || !object->is_object()) return nullptr;
+    const auto it = object->find(key);
+    return it == object->end() ? nullptr : &*it;
 }
 
-Expected<Material> convertMaterial(const tinygltf::Material& source, int index,
-                                   const std::string& path) {
+// `raw` is the material's object in the file's own JSON (bounded_json.h): the extensions are
+// read from it, so numbers, nulls and empty members are seen as written.
+Expected<Material> convertMaterial(const tinygltf::Material& source, const nlohmann::json* raw,
+                                   int index, const std::string& path) {
     const std::string where = concat("materials[", index, "]");
     Material material;
     material.name = source.name.empty() ? concat("material", index) : source.name;
@@ -106,16 +88,24 @@ Expected<Material> convertMaterial(const tinygltf::Material& source, int index,
         material.baseColor[c] = base[c];
     }
 
+    const nlohmann::json* extensions = findMember(raw, "extensions");
+    if (extensions != nullptr && !extensions->is_object()) {
+        return Error{
+            concat(where, ".extensions: ", describeJson(*extensions), ", expected an object")};
+    }
     double strength = 1;
-    if (auto it = source.extensions.find(kEmissiveStrengthName); it != source.extensions.end()) {
+    if (const nlohmann::json* object = findMember(extensions, kEmissiveStrengthName)) {
         const std::string strengthWhere =
             concat(where, ".extensions.", kEmissiveStrengthName, ".emissiveStrength");
-        const tinygltf::Value& value =
-            it->second.IsObject() ? it->second.Get("emissiveStrength") : tinygltf::Value();
-        if (value.IsNumber()) {
-            strength = value.GetNumberAsDouble();
-        } else if (value.Type() != tinygltf::NULL_TYPE) {
-            return Error{strengthWhere + ": not a number"};
+        if (!object->is_object()) {
+            return Error{concat(where, ".extensions.", kEmissiveStrengthName, ": ",
+                                describeJson(*object), ", expected an object")};
+        }
+        if (const nlohmann::json* value = findMember(object, "emissiveStrength")) {
+            if (!value->is_number()) {
+                return Error{strengthWhere + ": " + describeJson(*value) + ", expected a number"};
+            }
+            strength = value->get<double>();
         }
         if (!(strength >= 0) || !std::isfinite(strength)) {
             return Error{
@@ -131,9 +121,9 @@ Expected<Material> convertMaterial(const tinygltf::Material& source, int index,
         material.emissiveRgb[c] = factor * strength;
     }
 
-    if (auto it = source.extensions.find(kSpectralExtensionName); it != source.extensions.end()) {
-        auto spectral = parseMaterialExtension(
-            toJson(it->second), concat(where, ".extensions.", kSpectralExtensionName));
+    if (const nlohmann::json* object = findMember(extensions, kSpectralExtensionName)) {
+        auto spectral =
+            parseMaterialExtension(*object, concat(where, ".extensions.", kSpectralExtensionName));
         if (!spectral) return spectral.error();
         material.spectral = std::move(*spectral);
     }
@@ -173,12 +163,18 @@ Expected<std::vector<std::array<uint32_t, 3>>> triangulate(int mode,
 // Flattens the default scene's node trees into a Scene. Messages lack the path; loadGltf adds it.
 class SceneBuilder {
 public:
-    SceneBuilder(const tinygltf::Model& model, const std::string& path, Scene& scene)
-        : model_(model), path_(path), scene_(scene) {}
+    SceneBuilder(const tinygltf::Model& model, const nlohmann::json& root, const std::string& path,
+                 Scene& scene, LoadBudget& budget)
+        : model_(model), root_(root), path_(path), scene_(scene), budget_(budget) {}
 
     Expected<void> build() {
+        const nlohmann::json* rawMaterials = findMember(&root_, "materials");
         for (std::size_t i = 0; i < model_.materials.size(); ++i) {
-            auto material = convertMaterial(model_.materials[i], static_cast<int>(i), path_);
+            const nlohmann::json* raw =
+                rawMaterials != nullptr && rawMaterials->is_array() && i < rawMaterials->size()
+                ? &(*rawMaterials)[i]
+                : nullptr;
+            auto material = convertMaterial(model_.materials[i], raw, static_cast<int>(i), path_);
             if (!material) return material.error();
             scene_.materials.push_back(std::move(*material));
         }
@@ -303,13 +299,13 @@ private:
         }
         const auto position = primitive.attributes.find("POSITION");
         if (position == primitive.attributes.end()) return Error{"has no POSITION attribute"};
-        auto positions = readGltfPositions(model_, position->second);
+        auto positions = readGltfPositions(model_, position->second, budget_);
         if (!positions) return withContext(positions.error(), "attributes.POSITION");
         const std::size_t vertexCount = positions->size();
 
         std::vector<uint32_t> indices;
         if (primitive.indices != -1) {
-            auto read = readGltfIndices(model_, primitive.indices);
+            auto read = readGltfIndices(model_, primitive.indices, budget_);
             if (!read) return withContext(read.error(), "indices");
             indices = std::move(*read);
             for (std::size_t k = 0; k < indices.size(); ++k) {
@@ -327,6 +323,14 @@ private:
         auto triangles = triangulate(mode, indices);
         if (!triangles) return triangles.error();
 
+        // The world-space copy: a position per vertex, corners and a material per triangle.
+        const uint64_t meshBytes = uint64_t(vertexCount) * sizeof(Vec3d) +
+            uint64_t(triangles->size()) * (3 * sizeof(uint32_t) + sizeof(uint32_t));
+        if (auto charged = budget_.charge(
+                meshBytes, concat(vertexCount, " vertices and ", triangles->size(), " triangles"));
+            !charged) {
+            return charged.error();
+        }
         TriangleMesh& mesh = scene_.mesh;
         if (vertexCount > std::numeric_limits<uint32_t>::max() - mesh.positions.size()) {
             return Error{"the scene has more vertices than 32-bit indices can address"};
@@ -394,8 +398,10 @@ private:
     }
 
     const tinygltf::Model& model_;
+    const nlohmann::json& root_;
     const std::string& path_;
     Scene& scene_;
+    LoadBudget& budget_;
     uint32_t defaultMaterial_ = 0;
     bool usesDefault_ = false;
 };
@@ -411,22 +417,57 @@ std::string trimNewlines(std::string text) {
     return text;
 }
 
-// Parses the file with tinygltf: binary when it starts with the "glTF" magic or ends in .glb.
-Expected<tinygltf::Model> parseFile(const std::string& path, std::vector<std::string>& warnings) {
+// The file's glTF, checked before tinygltf sees it (gltf_document.h, bounded_json.h).
+struct ParsedFile {
+    tinygltf::Model model;
+    nlohmann::json root;  // the JSON as written
+};
+
+Expected<ParsedFile> parseFile(const std::string& path, LoadBudget& budget,
+                               std::vector<std::string>& warnings) {
+    std::error_code ec;
+    const uint64_t fileBytes = std::filesystem::file_size(path, ec);
+    if (ec) return Error{"cannot read the file size: " + ec.message()};
+    if (auto charged = budget.charge(fileBytes, concat("the file (", fileBytes, " bytes)"));
+        !charged) {
+        return charged.error();
+    }
     std::ifstream file(path, std::ios::binary);
     if (!file) return Error{"cannot open the file"};
-    char magic[4] = {};
-    file.read(magic, sizeof(magic));
-    const bool binary = (file.gcount() == 4 && std::memcmp(magic, "glTF", 4) == 0) ||
-        std::filesystem::path(path).extension() == ".glb";
-    file.close();
+    std::string bytes(fileBytes, '\0');
+    file.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (static_cast<uint64_t>(file.gcount()) != fileBytes) return Error{"cannot read the file"};
+    const bool binary = (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) ||
+        toLower(std::filesystem::path(path).extension().string()) == ".glb";
+
+    std::string_view jsonText = bytes;
+    GlbChunks chunks;
+    if (binary) {
+        auto split = splitGlb(bytes);
+        if (!split) return split.error();
+        chunks = *split;
+        jsonText = chunks.json;
+    }
+    ParsedFile parsed;
+    auto root = parseBoundedJson(jsonText);
+    if (!root) return binary ? withContext(root.error(), "GLB chunk 0 (JSON)") : root.error();
+    parsed.root = std::move(*root);
+    if (auto ok = checkGltfAsset(parsed.root); !ok) return ok.error();
+    const std::string folder = std::filesystem::path(path).parent_path().string();
+    if (auto ok = checkGltfResources(parsed.root, folder, chunks.bin.size(), binary, budget); !ok) {
+        return ok.error();
+    }
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&ignoreImage, nullptr);
-    tinygltf::Model model;
     std::string error, warning;
-    const bool ok = binary ? loader.LoadBinaryFromFile(&model, &error, &warning, path)
-                           : loader.LoadASCIIFromFile(&model, &error, &warning, path);
+    const std::string baseDir = folder.empty() ? "." : folder;
+    const bool ok = binary
+        ? loader.LoadBinaryFromMemory(&parsed.model, &error, &warning,
+                                      reinterpret_cast<const unsigned char*>(bytes.data()),
+                                      static_cast<unsigned int>(bytes.size()), baseDir)
+        : loader.LoadASCIIFromString(&parsed.model, &error, &warning, bytes.data(),
+                                     static_cast<unsigned int>(bytes.size()), baseDir);
     error = trimNewlines(error);
     warning = trimNewlines(warning);
     if (!ok || !error.empty()) {
@@ -434,21 +475,26 @@ Expected<tinygltf::Model> parseFile(const std::string& path, std::vector<std::st
         return Error{warning.empty() ? error : error + "; " + warning};
     }
     if (!warning.empty()) warnings.push_back(path + ": " + warning);
-    return model;
+    return parsed;
 }
 
 }  // namespace
 
-Expected<Scene> loadGltf(const std::string& path) {
+Expected<Scene> loadGltf(const std::string& path, uint64_t maxMemoryBytes) {
     try {
         Scene scene;
         scene.path = path;
-        auto model = parseFile(path, scene.warnings);
-        if (!model) return withContext(model.error(), path);
-        SceneBuilder builder(*model, path, scene);
+        LoadBudget budget(maxMemoryBytes);
+        auto parsed = parseFile(path, budget, scene.warnings);
+        if (!parsed) return withContext(parsed.error(), path);
+        SceneBuilder builder(parsed->model, parsed->root, path, scene, budget);
         auto built = builder.build();
         if (!built) return withContext(built.error(), path);
         return scene;
+    } catch (const std::bad_alloc&) {
+        return Error{path +
+                     ": out of memory while loading (raise --max-memory or simplify the "
+                     "scene)"};
     } catch (const std::exception& e) {
         return Error{path + ": " + e.what()};
     }

@@ -18,9 +18,9 @@ Expected<Scene> loadScene(const std::string& path, const SceneLoadOptions& optio
     const std::string extension = toLower(std::filesystem::path(path).extension().string());
     Expected<Scene> scene = Error{};
     if (extension == ".gltf" || extension == ".glb") {
-        scene = loadGltf(path);
+        scene = loadGltf(path, options.maxMemoryBytes);
     } else if (extension == ".obj") {
-        scene = loadObj(path, options.mtlConvention);
+        scene = loadObj(path, options.mtlConvention, options.maxMemoryBytes);
     } else {
         return Error{concat(path, ": unknown scene format '", extension,
                             "' (expected .gltf, .glb or .obj)")};

@@ -26,6 +26,10 @@ constexpr double kMinBlackbodyK = 100.0;
 constexpr double kMaxBlackbodyK = 100000.0;
 constexpr double kColumnSumTolerance = 1e-9;  // slack on "every column of M sums to <= 1"
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// Emission values and scales above this would overflow the solve (B sums E over bounces and the
+// D65 and blackbody shapes multiply it); no physical source comes near (the Sun's surface emits
+// about 1e5 W m^-2 nm^-1).
+constexpr double kMaxEmission = 1e30;
 
 constexpr std::array<std::string_view, 3> kExtensionMembers = {"reflectance", "emission",
                                                                "fluorescence"};
@@ -130,7 +134,10 @@ Expected<std::vector<double>> readWavelengths(const json& value, const std::stri
 // absorption, >= 0 otherwise, and not all zero for a fluorescence emission shape.
 Expected<std::vector<double>> readValues(const json& value, const std::string& path,
                                          SpectrumRole role) {
-    auto values = readNumbers(value, path, 0, isReflectanceLike(role) ? 1 : kInfinity);
+    auto values = readNumbers(value, path, 0,
+                              isReflectanceLike(role)              ? 1
+                                  : role == SpectrumRole::Emission ? kMaxEmission
+                                                                   : kInfinity);
     if (!values) return values.error();
     bool allZero = true;
     for (double v : *values)
@@ -228,7 +235,7 @@ Expected<SpectrumSpec> parseSpectrum(const json& object, const std::string& path
         // Shapes peak at 1 (or stay within [0, 1]), so a scale <= 1 keeps a reflectance valid.
         const std::string scalePath = member(path, "scale");
         auto scale =
-            readNumber(object["scale"], scalePath, 0, isReflectanceLike(role) ? 1.0 : kInfinity);
+            readNumber(object["scale"], scalePath, 0, isReflectanceLike(role) ? 1.0 : kMaxEmission);
         if (!scale) return scale.error();
         if (role == SpectrumRole::FluorophoreEmission && *scale == 0) {
             return fail(scalePath, "0 makes the fluorescence emission shape zero");

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/strings.h"
+#include "scene/bounded_json.h"
 #include "scene/material_extension.h"
 
 namespace daisy {
@@ -57,18 +58,9 @@ Expected<nlohmann::json> readJsonFile(const std::string& path) {
     if (!in) return Error{path + ": cannot open for reading"};
     const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
     if (in.bad()) return Error{path + ": read failed"};
-    try {
-        return nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
-        // e.what() is "[json.exception.parse_error.101] parse error at line L, column C: ...".
-        std::string message = e.what();
-        if (const auto bracket = message.find("] "); message.starts_with("[json.exception")) {
-            message.erase(0, bracket + 2);
-        }
-        return Error{concat(path, ": invalid JSON (byte ", e.byte, "): ", message)};
-    } catch (const std::exception& e) {
-        return Error{concat(path, ": invalid JSON: ", e.what())};
-    }
+    auto parsed = parseBoundedJson(text);
+    if (!parsed) return withContext(parsed.error(), path);
+    return parsed;
 }
 
 }  // namespace

@@ -14,6 +14,8 @@
 #include <vector>
 
 #include "core/strings.h"
+#include "scene/load_budget.h"
+#include "scene/obj_syntax.h"
 
 // How MTL values become materials (DESIGN.md section 10):
 // - Standard: Kd -> baseColor (each component in [0, 1]), Ke -> emissiveRgb (each >= 0); Ks and
@@ -124,14 +126,50 @@ Expected<Material> convertMaterial(const tinyobj::material_t& source, const std:
     return material;
 }
 
+// Reads `path` whole, charged to `budget`; "" with ok = false when it cannot be read.
+Expected<std::string> readText(const std::string& path, LoadBudget& budget) {
+    std::error_code ec;
+    const uint64_t bytes = std::filesystem::file_size(path, ec);
+    if (ec) return Error{path + ": cannot read: " + ec.message()};
+    // tinyobjloader holds the text and its arrays: charge about four times the file.
+    if (auto charged = budget.charge(bytes * 4, concat(path, " (", bytes, " bytes)")); !charged) {
+        return charged.error();
+    }
+    std::ifstream in(path, std::ios::binary);
+    std::string text(bytes, '\0');
+    in.read(text.data(), static_cast<std::streamsize>(bytes));
+    if (!in && bytes > 0) return Error{path + ": cannot read"};
+    return text;
+}
+
+// Checks the numbers of the OBJ and of every MTL file it names that exists (obj_syntax.h).
+Expected<void> checkObjAndMtlNumbers(const std::string& path, LoadBudget& budget) {
+    auto text = readText(path, budget);
+    if (!text) return text.error();
+    if (auto ok = checkObjNumbers(*text, path); !ok) return ok;
+    const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+    for (const std::string& name : objMaterialLibraries(*text)) {
+        const std::string mtl = (folder / name).string();
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(mtl, ec)) continue;  // tinyobjloader warns
+        auto mtlText = readText(mtl, budget);
+        if (!mtlText) return mtlText.error();
+        if (auto ok = checkMtlNumbers(*mtlText, mtl); !ok) return ok;
+    }
+    return {};
+}
+
 }  // namespace
 
-Expected<Scene> loadObj(const std::string& path, MtlConvention convention) {
+Expected<Scene> loadObj(const std::string& path, MtlConvention convention,
+                        uint64_t maxMemoryBytes) {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(path, ec)) {
         return Error{
             path + (std::filesystem::exists(path, ec) ? ": not a regular file" : ": no such file")};
     }
+    LoadBudget budget(maxMemoryBytes);
+    if (auto ok = checkObjAndMtlNumbers(path, budget); !ok) return ok.error();
     tinyobj::ObjReaderConfig config;
     config.triangulate = true;
     config.vertex_color = false;

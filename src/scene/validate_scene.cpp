@@ -8,6 +8,9 @@
 namespace daisy {
 namespace {
 
+// Larger RGB emission (factor x strength) would overflow the solve to infinity.
+constexpr double kMaxEmissiveRgb = 1e30;
+
 Expected<void> checkMaterial(const Material& material) {
     for (int k = 0; k < 3; ++k) {
         const double reflectance = material.baseColor[k];
@@ -20,6 +23,12 @@ Expected<void> checkMaterial(const Material& material) {
             return Error{concat(material.origin, ": emission component ", k, " is ", emission,
                                 ", must be finite and >= 0")};
         }
+        if (emission > kMaxEmissiveRgb) {
+            return Error{concat(material.origin, ": emission component ", k, " is ",
+                                formatNumber(emission),
+                                " (emissiveFactor x emissiveStrength), over ",
+                                formatNumber(kMaxEmissiveRgb), "; the solve would overflow")};
+        }
     }
     return {};
 }
@@ -29,7 +38,96 @@ double longestEdgeSquared(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
     return std::max({dot(ab, ab), dot(bc, bc), dot(ca, ca)});
 }
 
+std::string formatPoint(const Vec3d& p) {
+    return concat("(", formatNumber(p.x, 4), ", ", formatNumber(p.y, 4), ", ", formatNumber(p.z, 4),
+                  ")");
+}
+
+double largestCoordinate(const Vec3d& p) {
+    return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+}
+
+// True when some triangle uses an emissive material.
+bool hasEmitter(const Scene& scene) {
+    std::vector<char> emissive(scene.materials.size(), 0);
+    for (std::size_t m = 0; m < scene.materials.size(); ++m)
+        emissive[m] = scene.materials[m].isEmissive();
+    for (uint32_t material : scene.mesh.materials) {
+        if (material < emissive.size() && emissive[material]) return true;
+    }
+    return false;
+}
+
 }  // namespace
+
+SceneExtent sceneExtent(const TriangleMesh& mesh) {
+    SceneExtent extent;
+    if (mesh.triangles.empty()) return extent;
+    Vec3d low = mesh.positions[mesh.triangles[0][0]], high = low;
+    for (const auto& triangle : mesh.triangles) {
+        for (uint32_t v : triangle) {
+            const Vec3d& p = mesh.positions[v];
+            low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
+            high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
+            extent.largestCoordinate = std::max(extent.largestCoordinate, largestCoordinate(p));
+        }
+    }
+    extent.low = low;
+    extent.high = high;
+    extent.diagonal = length(high - low);
+    return extent;
+}
+
+Expected<void> checkRayTracingRange(const Scene& scene) {
+    const std::string& file = scene.path;
+    if (scene.mesh.triangles.empty()) return {};
+    const SceneExtent extent = sceneExtent(scene.mesh);
+    const double size = extent.diagonal;
+    const std::string box =
+        concat("the geometry spans ", formatPoint(extent.low), " to ", formatPoint(extent.high),
+               " (diagonal ", formatNumber(size, 4), ")");
+    if (extent.largestCoordinate > kMaxSceneCoordinate) {
+        return Error{concat(file, ": ", box, "; coordinates up to ",
+                            formatNumber(extent.largestCoordinate, 4), " exceed the ",
+                            formatNumber(kMaxSceneCoordinate, 3),
+                            " that float32 form factors and ray tracing represent; rescale the "
+                            "scene (glTF units are metres)")};
+    }
+    if (size < kMinSceneDiagonal) {
+        return Error{concat(file, ": ", box, ", under the ", formatNumber(kMinSceneDiagonal),
+                            " that float32 form factors resolve (r^4 underflows); rescale the "
+                            "scene (glTF units are metres)")};
+    }
+    if (extent.largestCoordinate > kMaxOffsetRatio * size) {
+        return Error{concat(file, ": ", box, ", ", formatNumber(extent.largestCoordinate, 4),
+                            " from the origin: more than ", formatNumber(kMaxOffsetRatio),
+                            " times its size, so float32 positions cannot resolve it; move it "
+                            "nearer the origin")};
+    }
+    const Vec3d centre = (extent.low + extent.high) * 0.5;
+    for (const Camera& camera : scene.cameras) {
+        const double distance = length(camera.position - centre);
+        if (!isFinite(camera.position) ||
+            largestCoordinate(camera.position) > kMaxSceneCoordinate ||
+            distance > kMaxOffsetRatio * size) {
+            return Error{concat(
+                file, ": camera '", camera.name, "' at ", formatPoint(camera.position), " is ",
+                formatNumber(distance, 4), " from the geometry's centre; the limit is ",
+                formatNumber(kMaxOffsetRatio), " x the scene diagonal ", formatNumber(size, 4),
+                " = ", formatNumber(kMaxOffsetRatio * size, 4), " (and coordinates up to ",
+                formatNumber(kMaxSceneCoordinate, 3), ") for float32 ray tracing")};
+        }
+    }
+    return {};
+}
+
+std::string noEmitterWarning(const Scene& scene) {
+    if (hasEmitter(scene)) return {};
+    return concat(scene.path,
+                  ": no surface emits light (no emissiveFactor, KHR_materials_emissive_strength "
+                  "or DAISY_materials_spectral emission on any material in use): radiosity will "
+                  "be zero everywhere and images black");
+}
 
 Expected<void> validateScene(Scene& scene) {
     TriangleMesh& mesh = scene.mesh;
@@ -83,6 +181,10 @@ Expected<void> validateScene(Scene& scene) {
     if (mesh.triangles.empty()) {
         return Error{concat(file, ": the scene has no triangles",
                             scene.degenerateDropped ? " with non-zero area" : "")};
+    }
+    if (auto ok = checkRayTracingRange(scene); !ok) return ok;
+    if (std::string warning = noEmitterWarning(scene); !warning.empty()) {
+        scene.warnings.push_back(std::move(warning));
     }
     return {};
 }

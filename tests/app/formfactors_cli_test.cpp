@@ -71,12 +71,14 @@ TEST(FormFactorsCli, CudaBackendNotBuiltYetIsExitTwo) {
     EXPECT_NE(run.output.find("backend 'cuda' is not built into this binary"), std::string::npos) << run.output;
 }
 
-// An unwritable output is a failure (exit 1) naming the path, with no partial file.
+// An unwritable output is bad usage (exit 2) found before any work, naming the path, with no
+// partial file.
 TEST(FormFactorsCli, UnwritableOutputFailsCleanly) {
     const auto dir = test::testTempDir();
     const std::string path = (dir / "missing_dir" / "F.mtx").string();
     const RunResult run = runDaisy("formfactors " + kCornellBox + " -o " + path + " --quiet");
-    EXPECT_EQ(run.status, 1) << run.output;
+    EXPECT_EQ(run.status, 2) << run.output;
+    EXPECT_EQ(run.output.find("view factors"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find(path), std::string::npos) << run.output;
     EXPECT_TRUE(std::filesystem::is_empty(dir));
 }

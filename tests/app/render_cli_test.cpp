@@ -127,21 +127,21 @@ TEST(RenderCli, BadInputExitsTwoAndWritesNothing) {
     EXPECT_EQ(fileCount(dir), 1u);  // broken.gltf only
 }
 
-// A directory that does not exist fails before the solve (status 1, like any unwritable
-// output), and nothing is left behind.
-TEST(RenderCli, UnwritableOutputExitsOneWithoutPartialFile) {
+// An unwritable output (a directory that does not exist, a name taken by a directory) is found
+// before any work (status 2, bad usage), and nothing is left behind.
+TEST(RenderCli, UnwritableOutputExitsTwoWithoutPartialFile) {
     const auto dir = test::testTempDir();
     const RunResult run =
         runDaisy("render " + kFurnace + " -o " + (dir / "missing" / "a.png").string());
-    EXPECT_EQ(run.status, 1) << run.output;
+    EXPECT_EQ(run.status, 2) << run.output;
     EXPECT_NE(run.output.find("missing"), std::string::npos) << run.output;
     EXPECT_EQ(fileCount(dir), 0u);
 
-    // The write itself fails (the name is taken by a directory) after the whole pipeline ran.
     std::filesystem::create_directory(dir / "taken.png");
     const RunResult taken = runDaisy("render " + kFurnace + " --width 8 --subdivide 0 -o " +
                                      (dir / "taken.png").string());
-    EXPECT_EQ(taken.status, 1) << taken.output;
+    EXPECT_EQ(taken.status, 2) << taken.output;
+    EXPECT_EQ(taken.output.find("view factors"), std::string::npos) << taken.output;
     EXPECT_NE(taken.output.find("taken.png"), std::string::npos) << taken.output;
     EXPECT_EQ(fileCount(dir), 1u);  // the directory, no temporary left behind
 }
