@@ -1,7 +1,6 @@
 #include "app/bench_sweep.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -18,6 +17,7 @@
 #include "core/log.h"
 #include "core/memory.h"
 #include "core/strings.h"
+#include "core/timer.h"
 #include "geometry/auto_patch_size.h"
 #include "image/camera.h"
 #include "image/chart.h"
@@ -32,12 +32,6 @@
 
 namespace daisy::app {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double secondsSince(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
 
 // Image size of every row's render: large enough for a stable mean CIEDE2000, small enough that
 // shading never dominates a row's time.
