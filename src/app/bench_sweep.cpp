@@ -13,6 +13,7 @@
 
 #include "app/pipeline.h"
 #include "backend/backend.h"
+#include "bench/chart.h"
 #include "core/atomic_file.h"
 #include "core/log.h"
 #include "core/memory.h"
@@ -20,7 +21,6 @@
 #include "core/timer.h"
 #include "geometry/auto_patch_size.h"
 #include "image/camera.h"
-#include "image/chart.h"
 #include "image/exposure.h"
 #include "image/image_io.h"
 #include "image/renderer.h"
