@@ -1,10 +1,9 @@
 #include "app/pipeline.h"
 
-#include <chrono>
-
 #include "core/log.h"
 #include "core/progress.h"
 #include "core/strings.h"
+#include "core/timer.h"
 #include "radiosity/matrix_estimate.h"
 
 namespace daisy::app {
@@ -69,18 +68,12 @@ Expected<FormFactorRun> buildFormFactorsFor(const CommonOptions& options,
     return FormFactorRun{std::move(*result), (*backend)->name()};
 }
 
-namespace {
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-}  // namespace
+namespace {}  // namespace
 
 Expected<SolvedScene> solveScene(const CommonOptions& options, DefaultPatchSize defaultSize,
                                  const std::function<Expected<void>(const Scene&)>& afterLoad) {
     SolvedScene out;
-    auto start = std::chrono::steady_clock::now();
+    auto start = Clock::now();
     auto scene = loadSceneLogged(options);
     if (!scene) return scene.error();
     out.scene = std::move(*scene);
@@ -97,7 +90,7 @@ Expected<SolvedScene> solveScene(const CommonOptions& options, DefaultPatchSize 
     out.wavelengths = std::move(*set);
     out.loadSeconds = secondsSince(start);
 
-    start = std::chrono::steady_clock::now();
+    start = Clock::now();
     if (options.subdivideMaxEdge) {
         out.maxEdge = *options.subdivideMaxEdge;
     } else if (defaultSize == DefaultPatchSize::Automatic) {
@@ -118,7 +111,7 @@ Expected<SolvedScene> solveScene(const CommonOptions& options, DefaultPatchSize 
         out.fluorescentOperators += !op.isDiagonal;
     out.meshSeconds = secondsSince(start);
 
-    start = std::chrono::steady_clock::now();
+    start = Clock::now();
     auto formFactors = buildFormFactorsFor(options, out.patches);
     if (!formFactors) return formFactors.error();
     out.formFactors = std::move(*formFactors);
@@ -140,7 +133,7 @@ Expected<SolvedScene> solveScene(const CommonOptions& options, DefaultPatchSize 
                " distinct re-radiation matrices, ", out.fluorescentOperators, " fluorescent",
                out.fluorescentOperators ? "" : " (wavelengths solved independently, M diagonal)"));
 
-    start = std::chrono::steady_clock::now();
+    start = Clock::now();
     SolverSettings settings;
     parseSolverKind(options.solver, settings.kind);  // CLI11 checked the name
     settings.tolerance = options.tolerance;

@@ -5,7 +5,6 @@
 // the time of each stage, the solve, peak memory and what was skipped.
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -18,6 +17,7 @@
 #include "core/memory.h"
 #include "core/progress.h"
 #include "core/strings.h"
+#include "core/timer.h"
 #include "image/camera.h"
 #include "image/exposure.h"
 #include "image/image_io.h"
@@ -34,10 +34,6 @@ ImageFormat formatOf(const std::string& path) {
     if (ext == ".exr") return ImageFormat::Exr;
     if (ext == ".pfm") return ImageFormat::Pfm;
     return ImageFormat::Png;  // CLI11 accepted only .png, .exr and .pfm
-}
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::string percentOf(uint64_t part, uint64_t whole) {
@@ -114,7 +110,7 @@ std::string skippedSummary(const SolvedScene& solved) {
 }  // namespace
 
 int runRender(const CommonOptions& options, const RenderOptions& render) {
-    const auto started = std::chrono::steady_clock::now();
+    const auto started = Clock::now();
     const ImageFormat format = formatOf(render.outputPath);
     if (render.spectralExr && format != ImageFormat::Exr) {
         logError(concat("--spectral-exr: the output ", render.outputPath, " is not an .exr"));
@@ -163,7 +159,7 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     }
 
     // Shade: per-patch radiance -> per-corner values.
-    auto start = std::chrono::steady_clock::now();
+    auto start = Clock::now();
     const bool spectral = render.spectralExr;
     const int m = static_cast<int>(solved->system.wavelengthCount);
     const int xyzChannel = spectral ? m : 0;
@@ -172,7 +168,7 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
         cornerValues(solved->patches, patchChannels(*solved, spectral, channels), channels);
     const double shadeSeconds = secondsSince(start);
 
-    start = std::chrono::steady_clock::now();
+    start = Clock::now();
     RenderSettings settings;
     settings.width = width;
     settings.height = height;
@@ -188,7 +184,7 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     const double renderSeconds = secondsSince(start);
 
     // Exposure and the file.
-    start = std::chrono::steady_clock::now();
+    start = Clock::now();
     const Image xyz = channelSlice(*rendered, xyzChannel, 3);
     const double scale = exposureScale(*exposure, xyz);
     Expected<void> written;
