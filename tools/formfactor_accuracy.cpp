@@ -4,7 +4,6 @@
 // 0.200043776075); the summation rule in a closed unit cube (every row of F sums to 1); a plate
 // halfway between two squares at distance 2 that hides exactly half (F = C-11(X = Y = 0.5) / 2
 // = 0.0342947944). Usage: formfactor_accuracy [--threads T]; prints the table on stdout.
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -13,31 +12,18 @@
 #include <vector>
 
 #include "backend/embree_ray_caster.h"
+#include "core/timer.h"
 #include "radiosity/form_factors.h"
+#include "verify/closed_forms.h"
+#include "verify/scenes.h"
 
 using namespace daisy;
 
 namespace {
 
-constexpr double kC11 = 0.199824895698;
-constexpr double kC14 = 0.200043776075;
-constexpr double kHalfHidden = 0.5 * 0.0685895888185526;
-
-void addGrid(TriangleMesh& mesh, Vec3d origin, Vec3d u, Vec3d v, int n) {
-    const auto base = static_cast<uint32_t>(mesh.positions.size());
-    for (int y = 0; y <= n; ++y) {
-        for (int x = 0; x <= n; ++x)
-            mesh.positions.push_back(origin + u * (double(x) / n) + v * (double(y) / n));
-    }
-    const auto at = [&](int x, int y) { return base + uint32_t(y * (n + 1) + x); };
-    for (int y = 0; y < n; ++y) {
-        for (int x = 0; x < n; ++x) {
-            mesh.triangles.push_back({at(x, y), at(x + 1, y), at(x + 1, y + 1)});
-            mesh.triangles.push_back({at(x, y), at(x + 1, y + 1), at(x, y + 1)});
-            mesh.materials.insert(mesh.materials.end(), {0u, 0u});
-        }
-    }
-}
+using verify::kHowellC11;
+using verify::kHowellC14;
+constexpr double kHalfHidden = 0.5 * verify::kHowellC11Distance2;
 
 struct Run {
     SparseMatrix matrix;
@@ -47,49 +33,30 @@ struct Run {
 
 Run run(const TriangleMesh& triangles, const FormFactorSettings& settings) {
     Run r;
-    r.mesh = std::move(buildPatchMesh(triangles, 0).value());
+    r.mesh = verify::patchesOf(triangles);
     auto caster = EmbreeRayCaster::create(r.mesh);
-    const auto start = std::chrono::steady_clock::now();
+    const Timer timer;
     auto result = computeFormFactors(r.mesh, settings, **caster);
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r.seconds = timer.seconds();
     r.matrix = std::move(result->matrix);
     return r;
 }
 
 // Area-weighted factor from the first `count` patches to the next `count`.
 double groupFactor(const Run& r, uint32_t count) {
-    double flux = 0, area = 0;
-    for (uint32_t i = 0; i < count; ++i) {
-        area += r.mesh.areas[i];
-        for (uint32_t j = count; j < 2 * count; ++j)
-            flux += r.mesh.areas[i] * r.matrix.at(i, j);
-    }
-    return flux / area;
+    return verify::groupFactor(r.mesh, r.matrix, 0, count, count, 2 * count);
 }
 
 double squares(const FormFactorSettings& settings, int n, bool perpendicular) {
-    TriangleMesh mesh;
-    addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, n);
-    if (perpendicular) {
-        addGrid(mesh, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, n);
-    } else {
-        addGrid(mesh, {0, 0, 1}, {0, 1, 0}, {1, 0, 0}, n);
-    }
-    return groupFactor(run(mesh, settings), uint32_t(2 * n * n)) / (perpendicular ? kC14 : kC11) -
-        1;
+    const TriangleMesh mesh =
+        perpendicular ? verify::perpendicularSquares(n) : verify::parallelSquares(n);
+    const double exact = perpendicular ? kHowellC14 : kHowellC11;
+    return groupFactor(run(mesh, settings), uint32_t(2 * n * n)) / exact - 1;
 }
 
 // Largest |row sum - 1| in the unit cube room with n x n quads a face, and the build time.
 std::pair<double, double> cube(const FormFactorSettings& settings, int n) {
-    TriangleMesh mesh;
-    const Vec3d o{0, 0, 0}, x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
-    addGrid(mesh, o, x, y, n);
-    addGrid(mesh, z, y, x, n);
-    addGrid(mesh, o, z, x, n);
-    addGrid(mesh, y, x, z, n);
-    addGrid(mesh, o, y, z, n);
-    addGrid(mesh, x, z, y, n);
-    const Run r = run(mesh, settings);
+    const Run r = run(verify::unitCubeRoom(n), settings);
     double worst = 0;
     for (double sum : rowSums(r.matrix))
         worst = std::max(worst, std::fabs(sum - 1));
@@ -97,11 +64,7 @@ std::pair<double, double> cube(const FormFactorSettings& settings, int n) {
 }
 
 double halfHidden(const FormFactorSettings& settings) {
-    TriangleMesh mesh;
-    addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 8);
-    addGrid(mesh, {0, 0, 2}, {0, 1, 0}, {1, 0, 0}, 8);
-    addGrid(mesh, {-1, -1, 1}, {1.5, 0, 0}, {0, 3, 0}, 1);
-    return groupFactor(run(mesh, settings), 128) / kHalfHidden - 1;
+    return groupFactor(run(verify::halfOccludedSquares(), settings), 128) / kHalfHidden - 1;
 }
 
 }  // namespace

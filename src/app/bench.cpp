@@ -1,7 +1,6 @@
 // `daisy bench` (issue 7): two modes. `--stress` runs the numerical stress suite (app/stress.h)
 // and prints one row per case (exit status 0 when every row passes, 1 otherwise); without it,
 // the time-vs-error sweep of app/bench_sweep.h. Both write CSV with -o.
-#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -12,6 +11,7 @@
 #include "app/stress.h"
 #include "core/log.h"
 #include "core/strings.h"
+#include "core/timer.h"
 
 namespace daisy::app {
 namespace {
@@ -67,12 +67,11 @@ int runStress(const CommonOptions& options, const BenchOptions& bench) {
     StressSettings settings;
     settings.quick = bench.quick;
     settings.threads = options.threads;
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     printStressHeader(options.quiet);
     const std::vector<StressRow> rows =
         runStressSuite(settings, [&](const StressRow& row) { printStressRow(row, options.quiet); });
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double seconds = secondsSince(start);
     std::size_t failures = 0;
     for (const StressRow& row : rows)
         failures += !row.pass;

@@ -1,7 +1,6 @@
 #include "app/bench_sweep.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -13,6 +12,7 @@
 #include <vector>
 
 #include "app/session_options.h"
+#include "bench/chart.h"
 #include "core/atomic_file.h"
 #include "core/log.h"
 #include "core/memory.h"
@@ -20,7 +20,6 @@
 #include "core/timer.h"
 #include "geometry/auto_patch_size.h"
 #include "image/camera.h"
-#include "image/chart.h"
 #include "image/exposure.h"
 #include "image/image_io.h"
 #include "image/renderer.h"

@@ -1,13 +1,11 @@
 // The numerical stress suite (stress.h). Every case builds its geometry in code, runs the real
 // pipeline and measures one error against a closed form (Howell, "A Catalog of Radiation Heat
-// Transfer Configuration Factors", 3rd ed., cases B-3, C-11, C-14; numbers below), a
-// double-precision quadrature of the exact point-to-polygon factor, or a conservation law.
-// Over 400 lines because each case is short but there are many; the oracles are at the top.
+// Transfer Configuration Factors", 3rd ed., cases B-3, C-11, C-14), a double-precision
+// quadrature of the exact point-to-polygon factor (both in verify/closed_forms.h), or a
+// conservation law. Over 400 lines because each case is short but there are many.
 #include "app/stress.h"
 
 #include <algorithm>
-#include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -15,191 +13,31 @@
 
 #include "pipeline/backend_registry.h"
 #include "core/strings.h"
+#include "core/timer.h"
 #include "geometry/patch_mesh.h"
 #include "radiosity/energy.h"
 #include "radiosity/form_factors.h"
+#include "radiosity/matrix_compare.h"
 #include "radiosity/radiosity_system.h"
 #include "radiosity/solver.h"
 #include "radiosity/sparse_matrix.h"
 #include "spectral/fluorescence.h"
 #include "spectral/wavelength_set.h"
 #include "spectral/wavelength_spec.h"
+#include "verify/closed_forms.h"
+#include "verify/scenes.h"
 
 namespace daisy::app {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using verify::addGrid;
+using verify::addRoom;
+using verify::groupFactor;
+using verify::hingedSquares;
+using verify::parallelRectangles;
+using verify::perpendicularRectangles;
+using verify::smallSquareToPlane;
 constexpr double kPi = std::numbers::pi;
-
-double secondsSince(Clock::time_point start) {
-    return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// ---- oracles (double precision) ----
-
-// Howell C-11: parallel coaxial rectangles a x b at distance c.
-double parallelRectangles(double a, double b, double c) {
-    const double x = a / c, y = b / c;
-    const double x1 = std::sqrt(1 + x * x), y1 = std::sqrt(1 + y * y);
-    const double bracket = 0.5 * std::log((1 + x * x) * (1 + y * y) / (1 + x * x + y * y)) +
-        x * y1 * std::atan(x / y1) + y * x1 * std::atan(y / x1) - x * std::atan(x) -
-        y * std::atan(y);
-    return 2 / (kPi * x * y) * bracket;
-}
-
-// Howell C-14: rectangles w x l and h x l sharing the edge of length l at 90 degrees, from w to h.
-double perpendicularRectangles(double w, double h, double l) {
-    const double W = w / l, H = h / l, w2 = W * W, h2 = H * H, s = w2 + h2;
-    const double logTerm = std::log((1 + w2) * (1 + h2) / (1 + s)) +
-        w2 * std::log(w2 * (1 + s) / ((1 + w2) * s)) + h2 * std::log(h2 * (1 + s) / ((1 + h2) * s));
-    return (W * std::atan(1 / W) + H * std::atan(1 / H) -
-            std::sqrt(s) * std::atan(1 / std::sqrt(s)) + 0.25 * logTerm) /
-        (kPi * W);
-}
-
-// Howell B-3: differential area at height h above a corner of an a x b rectangle, parallel.
-double pointToRectangleCorner(double a, double b, double h) {
-    const double A = a / h, B = b / h, a1 = std::sqrt(1 + A * A), b1 = std::sqrt(1 + B * B);
-    return (A / a1 * std::atan(B / a1) + B / b1 * std::atan(A / b1)) / (2 * kPi);
-}
-
-// Lambert's contour formula in double: the factor from a differential area at p (unit normal n)
-// to a convex polygon entirely in front of it (Baum et al. 1989, as shared/formfactor.h).
-double pointToPolygon(const Vec3d& p, const Vec3d& n, std::span<const Vec3d> poly) {
-    double sum = 0;
-    for (std::size_t k = 0; k < poly.size(); ++k) {
-        const Vec3d vk = poly[k] - p, vk1 = poly[(k + 1) % poly.size()] - p;
-        const Vec3d g = cross(vk, vk1);
-        const double gl = length(g);
-        if (gl > 0) sum += std::atan2(gl, dot(vk, vk1)) * dot(n, g) / gl;
-    }
-    return std::abs(sum) / (2 * kPi);
-}
-
-// Gauss-Legendre nodes and weights on [0, 1], 12 points (Abramowitz & Stegun 25.4.30 table).
-struct GaussRule {
-    std::array<double, 12> x{}, w{};
-    GaussRule() {
-        const int n = 12;
-        for (int i = 0; i < n; ++i) {  // Newton on P_n from the Chebyshev guess
-            double z = std::cos(kPi * (i + 0.75) / (n + 0.5)), pp = 0;
-            for (int it = 0; it < 100; ++it) {
-                double p1 = 1, p2 = 0;
-                for (int j = 1; j <= n; ++j) {
-                    const double p3 = p2;
-                    p2 = p1;
-                    p1 = ((2 * j - 1) * z * p2 - (j - 1) * p3) / j;
-                }
-                pp = n * (z * p1 - p2) / (z * z - 1);
-                const double dz = p1 / pp;
-                z -= dz;
-                if (std::abs(dz) < 1e-16) break;
-            }
-            x[i] = 0.5 * (1 - z);
-            w[i] = 1 / ((1 - z * z) * pp * pp);
-        }
-    }
-};
-
-// Panels of [0, 1] graded geometrically toward both ends (ratio 1/2 down to 2^-depth), for
-// integrands with endpoint singularities in their derivatives.
-std::vector<double> gradedBreaks(int depth, bool bothEnds) {
-    std::vector<double> breaks{0};
-    for (int k = depth; k >= 1; --k)
-        breaks.push_back(std::ldexp(bothEnds ? 0.5 : 1.0, -k));
-    if (!bothEnds) {
-        breaks.push_back(1);
-        return breaks;
-    }
-    for (int k = 1; k <= depth; ++k)
-        breaks.push_back(1 - std::ldexp(0.5, -k));
-    breaks.push_back(1);
-    return breaks;
-}
-
-// F from a unit square (s, t) in [0, 1]^2 at z = 0 (normal +z) to the unit square hinged on the
-// shared edge t = 0 at included angle phi (radians), by 12-point Gauss on graded panels of the
-// exact point-to-polygon factor. Checked against C-14 at 90 degrees (hingeOracleCheck).
-double hingedSquares(double phi) {
-    static const GaussRule rule;
-    const Vec3d n{0, 0, 1};
-    const std::array<Vec3d, 4> other = {Vec3d{0, 0, 0}, Vec3d{0, std::cos(phi), std::sin(phi)},
-                                        Vec3d{1, std::cos(phi), std::sin(phi)}, Vec3d{1, 0, 0}};
-    const std::vector<double> sBreaks = gradedBreaks(24, true), tBreaks = gradedBreaks(40, false);
-    double total = 0;
-    for (std::size_t a = 0; a + 1 < sBreaks.size(); ++a) {
-        for (std::size_t b = 0; b + 1 < tBreaks.size(); ++b) {
-            const double s0 = sBreaks[a], ds = sBreaks[a + 1] - s0;
-            const double t0 = tBreaks[b], dt = tBreaks[b + 1] - t0;
-            for (int i = 0; i < 12; ++i)
-                for (int j = 0; j < 12; ++j)
-                    total += rule.w[i] * rule.w[j] * ds * dt *
-                        pointToPolygon({s0 + ds * rule.x[i], t0 + dt * rule.x[j], 0}, n, other);
-        }
-    }
-    return total;
-}
-
-// F from a square of side `side` centred at height h above the centre of the square [-1, 1]^2
-// (parallel, facing it): B-3 summed over the four corner rectangles, averaged over the small
-// square by 12 x 12 Gauss points.
-double smallSquareToPlane(double side, double h) {
-    static const GaussRule rule;
-    double total = 0;
-    for (int i = 0; i < 12; ++i) {
-        for (int j = 0; j < 12; ++j) {
-            const double x = side * (rule.x[i] - 0.5), y = side * (rule.x[j] - 0.5);
-            const double f = pointToRectangleCorner(1 - x, 1 - y, h) +
-                pointToRectangleCorner(1 + x, 1 - y, h) + pointToRectangleCorner(1 - x, 1 + y, h) +
-                pointToRectangleCorner(1 + x, 1 + y, h);
-            total += rule.w[i] * rule.w[j] * f;
-        }
-    }
-    return total;
-}
-
-// ---- geometry ----
-
-// The parallelogram origin + s u + t v as an nu x nv grid of quads (two triangles each), facing
-// cross(u, v).
-void addGrid(TriangleMesh& mesh, Vec3d origin, Vec3d u, Vec3d v, int nu, int nv,
-             uint32_t material = 0) {
-    const auto base = static_cast<uint32_t>(mesh.positions.size());
-    for (int y = 0; y <= nv; ++y)
-        for (int x = 0; x <= nu; ++x)
-            mesh.positions.push_back(origin + u * (double(x) / nu) + v * (double(y) / nv));
-    const auto at = [&](int x, int y) { return base + uint32_t(y * (nu + 1) + x); };
-    for (int y = 0; y < nv; ++y) {
-        for (int x = 0; x < nu; ++x) {
-            mesh.triangles.push_back({at(x, y), at(x + 1, y), at(x + 1, y + 1)});
-            mesh.triangles.push_back({at(x, y), at(x + 1, y + 1), at(x, y + 1)});
-            mesh.materials.insert(mesh.materials.end(), {material, material});
-        }
-    }
-}
-
-// The box origin + [0, size] as a closed room, faces facing inwards, each an n x n grid; face f
-// (floor, ceiling, y = 0, y = max, x = 0, x = max) gets material f.
-void addRoom(TriangleMesh& mesh, Vec3d origin, Vec3d size, int n) {
-    const Vec3d x{size.x, 0, 0}, y{0, size.y, 0}, z{0, 0, size.z};
-    addGrid(mesh, origin, x, y, n, n, 0);
-    addGrid(mesh, origin + z, y, x, n, n, 1);
-    addGrid(mesh, origin, z, x, n, n, 2);
-    addGrid(mesh, origin + y, x, z, n, n, 3);
-    addGrid(mesh, origin, y, z, n, n, 4);
-    addGrid(mesh, origin + x, z, y, n, n, 5);
-}
-
-// A solid box origin + [0, size], faces facing outwards, one quad each.
-void addBlocker(TriangleMesh& mesh, Vec3d origin, Vec3d size) {
-    const Vec3d x{size.x, 0, 0}, y{0, size.y, 0}, z{0, 0, size.z};
-    addGrid(mesh, origin, y, x, 1, 1);
-    addGrid(mesh, origin + z, x, y, 1, 1);
-    addGrid(mesh, origin, x, z, 1, 1);
-    addGrid(mesh, origin + y, z, x, 1, 1);
-    addGrid(mesh, origin, z, y, 1, 1);
-    addGrid(mesh, origin + x, y, z, 1, 1);
-}
 
 // ---- running the pipeline ----
 
@@ -231,19 +69,6 @@ Built buildAll(const Context& context, const TriangleMesh& triangles, double max
 
 bool allFinite(std::span<const double> values) {
     return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
-}
-
-// Area-weighted F from patches [a0, a1) to patches [b0, b1): the factor between the two unions.
-double groupFactor(const Built& b, uint32_t a0, uint32_t a1, uint32_t b0, uint32_t b1) {
-    double flux = 0, area = 0;
-    for (uint32_t i = a0; i < a1; ++i) {
-        const auto columns = b.f.rowColumns(i);
-        const auto values = b.f.rowValues(i);
-        for (std::size_t k = 0; k < columns.size(); ++k)
-            if (columns[k] >= b0 && columns[k] < b1) flux += b.mesh.areas[i] * values[k];
-        area += b.mesh.areas[i];
-    }
-    return flux / area;
 }
 
 // A system over `mesh` with m unit-width samples at `wavelengthsNm`, every patch on operator 0.
@@ -385,7 +210,7 @@ StressRow furnaceExact(const Context& context, double rho) {
 TriangleMesh scaledRoom(double scale) {
     TriangleMesh mesh;
     addRoom(mesh, Vec3d{0.3, -0.2, 0.5} * scale, Vec3d{1, 1, 1} * scale, 3);
-    addBlocker(mesh, Vec3d{0.65, 0.15, 0.85} * scale, Vec3d{0.3, 0.3, 0.3} * scale);
+    verify::addSolidBox(mesh, Vec3d{0.65, 0.15, 0.85} * scale, Vec3d{0.3, 0.3, 0.3} * scale);
     return mesh;
 }
 
@@ -396,19 +221,13 @@ StressRow scaleInvariance(const Context& context, double scale, const Built& uni
     if (!b.error.empty() && failed(row, b.error)) return row;
     row.patches = b.mesh.patchCount();
     row.finite = validateStructure(b.f).empty();
-    uint32_t worst = 0;
-    for (uint32_t i = 0; i < b.f.size; ++i) {
-        for (uint32_t j = 0; j < b.f.size; ++j) {
-            const double d = std::abs(double(b.f.at(i, j)) - unit.f.at(i, j));
-            if (d > row.error) row.error = d, worst = i * b.f.size + j;
-        }
-    }
+    const EntryDifference worst = compareMatrices(b.f, unit.f, {}).maxAbsolute;
+    row.error = worst.absolute;
     // Float rounding of the scaled coordinates moves each kernel by ~1e-6 relative.
     row.tolerance = 1e-5;
     if (row.error > 0)
-        row.status = concat("worst F(", worst / b.f.size, ",", worst % b.f.size,
-                            ") = ", formatNumber(b.f.at(worst / b.f.size, worst % b.f.size), 6),
-                            " vs ", formatNumber(unit.f.at(worst / b.f.size, worst % b.f.size), 6));
+        row.status = concat("worst F(", worst.row, ",", worst.column,
+                            ") = ", formatNumber(worst.a, 6), " vs ", formatNumber(worst.b, 6));
     row.pass = row.finite && row.error <= row.tolerance;
     return row;
 }
@@ -425,7 +244,7 @@ StressRow sliverStrips(const Context& context) {
     if (!b.error.empty() && failed(row, b.error)) return row;
     row.patches = b.mesh.patchCount();
     row.finite = validateStructure(b.f).empty();
-    const double exact = parallelRectangles(1, w, w), f = groupFactor(b, 0, 2, 2, 4);
+    const double exact = parallelRectangles(1, w, w), f = groupFactor(b.mesh, b.f, 0, 2, 2, 4);
     row.error = std::abs(f - exact) / exact;
     row.tolerance = 1e-3;
     row.status = concat("F = ", formatNumber(f, 6), ", exact ", formatNumber(exact, 6));
@@ -438,15 +257,14 @@ StressRow sliverStrips(const Context& context) {
 StressRow nearlyCoincident(const Context& context, double gap, int n) {
     StressRow row =
         rowFor(context, concat("parallel gap ", formatNumber(gap)), "Howell C-11, rel. error");
-    TriangleMesh mesh;
-    addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, n, n);
-    addGrid(mesh, {0, 0, gap}, {0, 1, 0}, {1, 0, 0}, n, n);
+    const TriangleMesh mesh = verify::parallelSquares(n, gap);
     const Built b = buildAll(context, mesh);
     if (!b.error.empty() && failed(row, b.error)) return row;
     row.patches = b.mesh.patchCount();
     row.finite = validateStructure(b.f).empty();
     const uint32_t half = uint32_t(b.mesh.patchCount() / 2);
-    const double exact = parallelRectangles(1, 1, gap), f = groupFactor(b, 0, half, half, 2 * half);
+    const double exact = parallelRectangles(1, 1, gap),
+                 f = groupFactor(b.mesh, b.f, 0, half, half, 2 * half);
     row.error = std::abs(f - exact) / exact;
     row.tolerance = 1e-3;
     row.status = concat("F = ", formatNumber(f, 7), ", exact ", formatNumber(exact, 7));
@@ -470,7 +288,7 @@ StressRow sharedEdge(const Context& context, double degrees, int n) {
     row.patches = b.mesh.patchCount();
     row.finite = validateStructure(b.f).empty();
     const uint32_t half = uint32_t(b.mesh.patchCount() / 2);
-    const double exact = hingedSquares(phi), f = groupFactor(b, 0, half, half, 2 * half);
+    const double exact = hingedSquares(phi), f = groupFactor(b.mesh, b.f, 0, half, half, 2 * half);
     row.error = std::abs(f - exact) / exact;
     // 1e-3 relative, or 1e-6 absolute: float contour sums of O(1) terms leave ~1e-7.
     row.tolerance = 1e-3 + 1e-6 / exact;

@@ -5,12 +5,12 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <vector>
 
 #include "core/progress.h"
 #include "core/strings.h"
+#include "core/timer.h"
 #include "geometry/bounds.h"
 #include "radiosity/form_factors_internal.h"
 #include "radiosity/sparse_matrix.h"
@@ -20,7 +20,6 @@
 namespace daisy {
 namespace {
 
-using detail::secondsSince;
 using shared::PairFactors;
 using shared::PairIndex;
 using shared::PatchGeometry;
@@ -63,7 +62,7 @@ uint64_t pairBatchWorkBytes(uint64_t n, uint64_t candidatePairs, uint64_t batchP
 Expected<FormFactorResult> build(const PatchMesh& mesh, const FormFactorSettings& settings,
                                  const char* backendName, std::size_t batchPairs,
                                  const PairEvaluator& evaluate) {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     const uint32_t n = static_cast<uint32_t>(mesh.patchCount());
     const std::vector<PatchGeometry> geometry = kernelPatches(mesh);
     FormFactorStats stats;
@@ -125,7 +124,7 @@ Expected<FormFactorResult> build(const PatchMesh& mesh, const FormFactorSettings
     lowerCount = {};
     upperCount = {};
 
-    const auto pairStart = std::chrono::steady_clock::now();
+    const auto pairStart = Clock::now();
     {
         Progress progress("view factors", candidatePairs, "pairs",
                           settings.progress && progressEnabledByDefault());
@@ -170,7 +169,7 @@ Expected<FormFactorResult> build(const PatchMesh& mesh, const FormFactorSettings
         stats.raysCast = candidatePairs * uint64_t(settings.raysPerPair);
     }
 
-    const auto compactStart = std::chrono::steady_clock::now();
+    const auto compactStart = Clock::now();
     dropZeros(matrix);
     stats.compactSeconds = secondsSince(compactStart);
     stats.nonzeros = matrix.nonzeroCount();

@@ -9,7 +9,6 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -18,6 +17,7 @@
 
 #include "core/progress.h"
 #include "core/strings.h"
+#include "core/timer.h"
 #include "radiosity/blocker_bvh.h"
 #include "radiosity/form_factors_internal.h"
 #include "radiosity/patch_clusters.h"
@@ -33,10 +33,6 @@ namespace detail {
 
 using shared::PatchGeometry;
 using shared::vec3;
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 int methodConstant(FormFactorMethod method) {
     switch (method) {
@@ -80,7 +76,6 @@ namespace {
 using detail::computeStochastic;
 using detail::kernelGeometry;
 using detail::methodConstant;
-using detail::secondsSince;
 using detail::seed32;
 using shared::PatchGeometry;
 using shared::vec3;
@@ -521,7 +516,7 @@ void PairLoop::computeCluster(std::size_t block, std::size_t a, ThreadScratch& s
 }
 
 Expected<FormFactorResult> PairLoop::run() {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     stats_.patches = n_;
     stats_.pairs = n_ < 2 ? 0 : uint64_t(n_) * (n_ - 1) / 2;
     stats_.clusters = clusters_.clusterCount();
@@ -550,7 +545,7 @@ Expected<FormFactorResult> PairLoop::run() {
     matrix_.columns.resize(stats_.slots);
     matrix_.values.resize(stats_.slots);
 
-    const auto pairStart = std::chrono::steady_clock::now();
+    const auto pairStart = Clock::now();
     {
         Progress progress("view factors", stats_.pairs, "pairs",
                           settings_.progress && progressEnabledByDefault());
@@ -571,7 +566,7 @@ Expected<FormFactorResult> PairLoop::run() {
     stats_.pairSeconds = secondsSince(pairStart);
     if (isCancelled(settings_.cancel)) return Error{kInterruptedMessage};
 
-    const auto compactStart = std::chrono::steady_clock::now();
+    const auto compactStart = Clock::now();
     candidates_.words = {};
     columnBase_ = {};
     dropZeros(matrix_);

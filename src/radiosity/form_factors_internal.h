@@ -1,7 +1,6 @@
 #pragma once
 // Helpers the form-factor drivers share (form_factors.cpp, stochastic_form_factors.cpp); not a
 // public interface.
-#include <chrono>
 #include <cstdint>
 #include <vector>
 
@@ -11,8 +10,6 @@
 #include "shared/gpu_types.h"
 
 namespace daisy::detail {
-
-double secondsSince(std::chrono::steady_clock::time_point start);
 
 // The DAISY_METHOD_* constant the shared kernels take.
 int methodConstant(FormFactorMethod method);

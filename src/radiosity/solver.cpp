@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -19,6 +18,7 @@
 #include <tbb/task_arena.h>
 
 #include "core/strings.h"
+#include "core/timer.h"
 #include "radiosity/gather_kernels.h"
 
 namespace daisy {
@@ -311,7 +311,7 @@ double Solver::southwellIteration() {
 }
 
 Expected<SolverResult> Solver::run() {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     const uint32_t n = system_.patchCount;
     SolverResult result;
     const bool warm = !settings_.initialRadiosity.empty();
@@ -472,8 +472,7 @@ Expected<SolverResult> Solver::run() {
     }
     result.radiosity = std::move(b_);
     result.gathered = std::move(g_);
-    result.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    result.seconds = secondsSince(start);
     return result;
 }
 

@@ -3,11 +3,11 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <chrono>
 #include <vector>
 
 #include "core/progress.h"
 #include "core/strings.h"
+#include "core/timer.h"
 #include "radiosity/form_factors_internal.h"
 #include "shared/config.h"
 #include "shared/rng.h"
@@ -27,7 +27,7 @@ using shared::vec3;
 Expected<FormFactorResult> computeStochastic(const PatchMesh& mesh,
                                              const FormFactorSettings& settings,
                                              const RayCaster& rays) {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     const auto n = static_cast<uint32_t>(mesh.patchCount());
     const int rayCount = settings.stochasticRays;
     FormFactorStats stats;
@@ -108,7 +108,7 @@ Expected<FormFactorResult> computeStochastic(const PatchMesh& mesh,
     stats.pairSeconds = secondsSince(start);
 
     // Union of the patterns of R and R^T, row by row: count, then fill.
-    const auto mergeStart = std::chrono::steady_clock::now();
+    const auto mergeStart = Clock::now();
     SparseMatrix f = SparseMatrix::zeros(n);
     std::vector<uint64_t> length(n);
     tbb::parallel_for(uint32_t(0), n, [&](uint32_t i) {

@@ -1,13 +1,13 @@
 #include "spectral/rgb_upsampling_fit.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "core/check.h"
+#include "core/timer.h"
 #include "spectral/cie_tables.h"
 
 namespace daisy {
@@ -158,7 +158,7 @@ SigmoidFitter::Result SigmoidFitter::fit(const Rgb& target,
 
 RgbToSpectrumTable fitRgbToSpectrumTable(int resolution, RgbTableFitStats* stats) {
     DAISY_CHECK_OP(resolution, >=, 2);
-    const auto started = std::chrono::steady_clock::now();
+    const auto started = Clock::now();
     const std::size_t res = std::size_t(resolution);
     const SigmoidFitter fitter;
     std::vector<float> coefficients(9 * res * res * res);
@@ -231,8 +231,7 @@ RgbToSpectrumTable fitRgbToSpectrumTable(int resolution, RgbTableFitStats* stats
             if (r > kFitToleranceLab) ++stats->nodesAboveTolerance;
         }
         stats->meanResidualLab = stats->fittedNodes ? sum / double(stats->fittedNodes) : 0;
-        stats->seconds =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+        stats->seconds = secondsSince(started);
     }
     return RgbToSpectrumTable(resolution, std::move(coefficients));
 }

@@ -13,51 +13,43 @@
 #include <string>
 
 #include "pipeline/backend_registry.h"
-#include "radiosity/form_factor_scenes.h"
+#include "radiosity/matrix_compare.h"
 #include "radiosity/sparse_matrix.h"
 #include "test_util.h"
+#include "verify/closed_forms.h"
+#include "verify/scenes.h"
 
 namespace daisy {
 namespace {
 
-using test::groupFactor;
-using test::kHowellC11;
-using test::kHowellC11Distance2;
-using test::kHowellC14;
-using test::parallelSquares;
-using test::perpendicularSquares;
+using verify::groupFactor;
+using verify::kHowellC11;
+using verify::kHowellC11Distance2;
+using verify::kHowellC14;
+using verify::parallelSquares;
+using verify::patchesOf;
+using verify::perpendicularSquares;
 
-// Parallel 8 x 8 squares at distance 2 with a plate at z = 1 covering x < 0.5 (two triangles,
-// patches 256 and 257). The reflection x -> 1 - x swaps blocked and open segments and preserves
-// the kernel, so exactly half the unoccluded factor remains.
+// Parallel 8 x 8 squares at distance 2 with a plate at z = 1 that hides exactly half
+// (verify/scenes.h).
 PatchMesh halfOccludedSquares() {
-    TriangleMesh mesh;
-    test::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 8, 8);
-    test::addGrid(mesh, {0, 0, 2}, {0, 1, 0}, {1, 0, 0}, 8, 8);
-    test::addGrid(mesh, {-1, -1, 1}, {1.5, 0, 0}, {0, 3, 0}, 1, 1);
-    return test::patchesOf(mesh);
+    return patchesOf(verify::halfOccludedSquares());
 }
 
 // A closed cube with a tilted plate floating inside: shared edges, occlusion, all orientations.
 PatchMesh cubeWithPlate() {
-    TriangleMesh mesh = test::unitCubeRoom(3);
-    test::addGrid(mesh, {0.3, 0.3, 0.4}, {0.5, 0, 0}, {0, 0.2, 0.1}, 2, 1);
-    return test::patchesOf(mesh);
+    TriangleMesh mesh = verify::unitCubeRoom(3);
+    verify::addGrid(mesh, {0.3, 0.3, 0.4}, {0.5, 0, 0}, {0, 0.2, 0.1}, 2, 1);
+    return patchesOf(mesh);
 }
 
 // The unit cube room (3 x 3 quads a face) around a solid box [0.35, 0.65] x [0.35, 0.65] x
 // [0.2, 0.5] with outward faces: a closed enclosure with an obstacle, so every row of both the
 // room and the box sums to 1 (the box hides part of the room from itself).
 PatchMesh cubeAroundBox() {
-    TriangleMesh mesh = test::unitCubeRoom(3);
-    const Vec3d o{0.35, 0.35, 0.2}, x{0.3, 0, 0}, y{0, 0.3, 0}, z{0, 0, 0.3};
-    test::addGrid(mesh, o, y, x, 2, 2);  // bottom, normal -z
-    test::addGrid(mesh, o + z, x, y, 2, 2);  // top, +z
-    test::addGrid(mesh, o, x, z, 2, 2);  // y = lo, -y
-    test::addGrid(mesh, o + y, z, x, 2, 2);  // y = hi, +y
-    test::addGrid(mesh, o, z, y, 2, 2);  // x = lo, -x
-    test::addGrid(mesh, o + x, y, z, 2, 2);  // x = hi, +x
-    return test::patchesOf(mesh);
+    TriangleMesh mesh = verify::unitCubeRoom(3);
+    verify::addSolidBox(mesh, {0.35, 0.35, 0.2}, {0.3, 0.3, 0.3}, 2);
+    return patchesOf(mesh);
 }
 
 class BackendEquivalence : public testing::TestWithParam<const char*> {
@@ -83,15 +75,15 @@ protected:
 // Defaults (hybrid, L = 1, K = 16): within 0.1% of both closed forms, as the cpu driver's tests
 // require (radiosity/form_factors_test.cpp).
 TEST_P(BackendEquivalence, HowellClosedForms) {
-    const PatchMesh c11 = parallelSquares(4, 1.0);
+    const PatchMesh c11 = patchesOf(parallelSquares(4));
     EXPECT_NEAR(groupFactor(c11, build(c11).matrix, 0, 32, 32, 64), kHowellC11, 1e-3 * kHowellC11);
-    const PatchMesh c14 = perpendicularSquares(4);
+    const PatchMesh c14 = patchesOf(perpendicularSquares(4));
     EXPECT_NEAR(groupFactor(c14, build(c14).matrix, 0, 32, 32, 64), kHowellC14, 1e-3 * kHowellC14);
 }
 
 // The simple rules reach the tolerances the cpu driver's tests give them on a 4 x 4 mesh.
 TEST_P(BackendEquivalence, RiemannAndNusseltConverge) {
-    const PatchMesh c11 = parallelSquares(4, 1.0);
+    const PatchMesh c11 = patchesOf(parallelSquares(4));
     FormFactorSettings riemann;
     riemann.method = FormFactorMethod::Riemann;
     riemann.quadratureLevel = 2;
@@ -111,7 +103,7 @@ TEST_P(BackendEquivalence, RiemannAndNusseltConverge) {
 // visible part (a known limitation of whole-patch sampling, DESIGN.md section 3; reported).
 // Reciprocity entry by entry.
 TEST_P(BackendEquivalence, ClosedEnclosureRowsSumToOneAndReciprocityHolds) {
-    const PatchMesh cube = test::patchesOf(test::unitCubeRoom(2));
+    const PatchMesh cube = patchesOf(verify::unitCubeRoom(2));
     for (double sum : rowSums(build(cube).matrix))
         ASSERT_NEAR(sum, 1.0, 1e-4);
     const PatchMesh occluded = cubeAroundBox();
@@ -178,21 +170,13 @@ TEST(ReferenceBackend, OccludedMatrixAgreesWithCpu) {
         const SparseMatrix reference = buildOn("reference", mesh, settings).matrix;
         settings.raysPerPair = 0;
         const SparseMatrix open = buildOn("reference", mesh, settings).matrix;
-        uint64_t entries = 0;
-        uint64_t differing = 0;
-        for (uint32_t i = 0; i < open.size; ++i) {
-            for (std::size_t k = 0; k < open.rowLength(i); ++k) {
-                const uint32_t j = open.rowColumns(i)[k];
-                const float a = cpu.at(i, j);
-                const float b = reference.at(i, j);
-                ++entries;
-                if (a == b) continue;
-                ++differing;
-                EXPECT_LE(std::abs(a - b), 2.0f / 16.0f * open.rowValues(i)[k] * 1.0001f)
-                    << i << ", " << j;
-            }
-        }
-        EXPECT_LE(differing, entries / 100) << differing << " of " << entries;
+        // Tolerances 0: every differing entry is over, and all of them are kept.
+        const uint64_t entries = open.nonzeroCount();
+        const MatrixComparison c = compareMatrices(cpu, reference, {0, 0, int(entries)});
+        for (const EntryDifference& d : c.worst)
+            EXPECT_LE(d.absolute, 2.0 / 16.0 * open.at(d.row, d.column) * 1.0001)
+                << d.row << ", " << d.column;
+        EXPECT_LE(c.overTolerance, entries / 100) << c.overTolerance << " of " << entries;
     }
 }
 

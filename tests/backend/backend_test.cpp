@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "backend/embree_ray_caster.h"
-#include "radiosity/form_factor_scenes.h"
+#include "verify/scenes.h"
 
 namespace daisy {
 namespace {
@@ -49,8 +49,8 @@ TEST(Backend, UnbuiltAndUnknownBackendsAreErrors) {
 // ending on it not (the end point's own patch is excluded), empty never.
 TEST(EmbreeRayCaster, OcclusionInEveryPacketMode) {
     TriangleMesh mesh;
-    test::addGrid(mesh, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 1, 1);
-    const PatchMesh patches = test::patchesOf(mesh);
+    verify::addGrid(mesh, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 1, 1);
+    const PatchMesh patches = verify::patchesOf(mesh);
     auto caster = EmbreeRayCaster::create(patches);
     ASSERT_TRUE(caster.ok()) << caster.error().message;
     SegmentArrays segments;
@@ -76,9 +76,9 @@ TEST(EmbreeRayCaster, OcclusionInEveryPacketMode) {
 
 TEST(EmbreeRayCaster, ClosestHitReportsThePatch) {
     TriangleMesh mesh;
-    test::addGrid(mesh, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 1, 1);
-    test::addGrid(mesh, {0, 0, 2}, {1, 0, 0}, {0, 1, 0}, 1, 1);
-    auto caster = EmbreeRayCaster::create(test::patchesOf(mesh));
+    verify::addGrid(mesh, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 1, 1);
+    verify::addGrid(mesh, {0, 0, 2}, {1, 0, 0}, {0, 1, 0}, 1, 1);
+    auto caster = EmbreeRayCaster::create(verify::patchesOf(mesh));
     ASSERT_TRUE(caster.ok());
     const Ray rays[] = {
         {{0.7f, 0.2f, 0}, {0, 0, 1}}, {{0.2f, 0.7f, 0}, {0, 0, 1}}, {{0.5f, 0.5f, 0}, {0, 0, -1}}};

@@ -15,17 +15,17 @@
 
 #include "backend/backend.h"
 #include "geometry/patch_mesh.h"
-#include "radiosity/form_factor_scenes.h"
 #include "radiosity/gather_kernels.h"
 #include "radiosity/solver.h"
 #include "radiosity/sparse_matrix.h"
+#include "verify/scenes.h"
 
 namespace daisy {
 namespace {
 
 const SparseMatrix& cubeMatrix() {
     static const std::unique_ptr<SparseMatrix> matrix = [] {
-        auto patches = buildPatchMesh(test::unitCubeRoom(14), 0);
+        auto patches = buildPatchMesh(verify::unitCubeRoom(14), 0);
         FormFactorSettings settings;
         settings.progress = false;
         auto f = patches ? makeCpuBackend()->buildFormFactors(*patches, settings)

@@ -8,17 +8,12 @@
 #include "geometry/patch_mesh.h"
 #include "scene/load_scene.h"
 #include "test_util.h"
+#include "verify/scenes.h"
 
 namespace daisy {
 namespace {
 
-void addQuad(TriangleMesh& mesh, Vec3d p0, Vec3d p1, Vec3d p2, Vec3d p3) {
-    const auto base = static_cast<uint32_t>(mesh.positions.size());
-    mesh.positions.insert(mesh.positions.end(), {p0, p1, p2, p3});
-    mesh.triangles.push_back({base, base + 1, base + 2});
-    mesh.triangles.push_back({base, base + 2, base + 3});
-    mesh.materials.insert(mesh.materials.end(), {0, 0});
-}
+using verify::addQuad;
 
 TriangleMesh unitSquare() {
     TriangleMesh mesh;

@@ -8,10 +8,10 @@
 #include <random>
 
 #include "geometry/bounds.h"
-#include "radiosity/form_factor_scenes.h"
 #include "scene/load_scene.h"
 #include "shared/bvh_traverse.h"
 #include "test_util.h"
+#include "verify/scenes.h"
 
 namespace daisy {
 namespace {
@@ -40,16 +40,16 @@ shared::BvhHit bruteClosest(const FlatBvh& bvh, vec3 org, vec3 dir, float tmin, 
 
 TEST(FlatBvh, ValidOnSmallAndLargeMeshes) {
     for (int n : {1, 2, 5}) {
-        const PatchMesh cube = test::patchesOf(test::unitCubeRoom(n));
+        const PatchMesh cube = verify::patchesOf(verify::unitCubeRoom(n));
         auto bvh = buildFlatBvh(cube);
         ASSERT_TRUE(bvh.ok()) << bvh.error().message;
         EXPECT_EQ(validateFlatBvh(*bvh, cube), "") << n;
     }
     TriangleMesh one;
-    test::addGrid(one, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 1, 1);
+    verify::addGrid(one, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 1, 1);
     one.triangles.pop_back();
     one.materials.pop_back();
-    const PatchMesh single = test::patchesOf(one);
+    const PatchMesh single = verify::patchesOf(one);
     auto bvh = buildFlatBvh(single);
     ASSERT_TRUE(bvh.ok());
     EXPECT_EQ(bvh->nodes.size(), 1u);  // one leaf
@@ -68,7 +68,7 @@ TEST(FlatBvh, ValidOnSmallAndLargeMeshes) {
 
 // validateFlatBvh catches what it promises to catch.
 TEST(FlatBvh, ValidationRejectsBrokenTrees) {
-    const PatchMesh cube = test::patchesOf(test::unitCubeRoom(2));
+    const PatchMesh cube = verify::patchesOf(verify::unitCubeRoom(2));
     const FlatBvh good = std::move(buildFlatBvh(cube).value());
     FlatBvh bad = good;
     bad.triangles[3] = bad.triangles[4];

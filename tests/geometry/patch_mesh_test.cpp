@@ -11,19 +11,13 @@
 
 #include "core/strings.h"
 #include "geometry/subdivision.h"
+#include "verify/scenes.h"
 
 namespace daisy {
 namespace {
 
-// Appends the quad p0 p1 p2 p3 as triangles (p0, p1, p2), (p0, p2, p3) with four positions of its
-// own, so shared corners only meet through welding.
-void addQuad(TriangleMesh& mesh, Vec3d p0, Vec3d p1, Vec3d p2, Vec3d p3, uint32_t material = 0) {
-    const auto base = static_cast<uint32_t>(mesh.positions.size());
-    mesh.positions.insert(mesh.positions.end(), {p0, p1, p2, p3});
-    mesh.triangles.push_back({base, base + 1, base + 2});
-    mesh.triangles.push_back({base, base + 2, base + 3});
-    mesh.materials.insert(mesh.materials.end(), {material, material});
-}
+// Quads of their own four positions, so shared corners only meet through welding.
+using verify::addQuad;
 
 void addTriangle(TriangleMesh& mesh, Vec3d a, Vec3d b, Vec3d c) {
     const auto base = static_cast<uint32_t>(mesh.positions.size());
@@ -41,23 +35,7 @@ TriangleMesh unitSquare() {
 // The unit cube as 12 triangles, normals pointing inward (an enclosure).
 TriangleMesh closedCube() {
     TriangleMesh mesh;
-    for (int axis = 0; axis < 3; ++axis) {
-        for (int side = 0; side < 2; ++side) {
-            Vec3d corners[4];
-            const double uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-            for (int k = 0; k < 4; ++k) {
-                corners[k][axis] = side;
-                corners[k][(axis + 1) % 3] = uv[k][0];
-                corners[k][(axis + 2) % 3] = uv[k][1];
-            }
-            // This order's normal is +axis; inward is +axis on side 0, -axis on side 1.
-            if (side == 0) {
-                addQuad(mesh, corners[0], corners[1], corners[2], corners[3]);
-            } else {
-                addQuad(mesh, corners[0], corners[3], corners[2], corners[1]);
-            }
-        }
-    }
+    verify::addCube(mesh, 0, 1, true);
     return mesh;
 }
 

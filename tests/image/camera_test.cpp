@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "image_test_util.h"
+#include "verify/scenes.h"
 
 namespace daisy {
 namespace {
@@ -70,7 +70,7 @@ TEST(ImageCamera, RotatedCameraKeepsRightHandedFrame) {
 TEST(ImageCamera, ChooseByNameIndexOrDefault) {
     Scene scene;
     scene.path = "room.gltf";
-    scene.mesh = test::closedRoom({0, 0, 0}, {1, 1, 1});
+    scene.mesh = verify::closedRoom({0, 0, 0}, {1, 1, 1});
     Camera a = testCamera(), b = testCamera();
     a.name = "front";
     b.name = "1";  // a name that is also an index: the name wins
@@ -96,7 +96,7 @@ TEST(ImageCamera, ChooseByNameIndexOrDefault) {
 
 TEST(ImageCamera, FramesAClosedRoomFromInside) {
     Scene scene;
-    scene.mesh = test::closedRoom({-1, 0, -2}, {3, 2, 2});  // 4 wide, 2 high, 4 deep
+    scene.mesh = verify::closedRoom({-1, 0, -2}, {3, 2, 2});  // 4 wide, 2 high, 4 deep
     const Camera camera = frameScene(scene, 1.5);
     EXPECT_EQ(camera.forward, Vec3d(0, 0, -1));
     EXPECT_EQ(camera.up, Vec3d(0, 1, 0));
@@ -114,7 +114,7 @@ TEST(ImageCamera, FramesAClosedRoomFromInside) {
 TEST(ImageCamera, FramesAnOpenSceneFromOutside) {
     Scene scene;
     // One quad facing +z: rays from its centre escape, so the camera stands outside.
-    test::addQuad(scene.mesh, {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0});
+    verify::addQuad(scene.mesh, {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0});
     const Camera camera = frameScene(scene, 2.0);
     EXPECT_EQ(camera.forward, Vec3d(0, 0, -1));
     const double radius = std::sqrt(2.0);
@@ -123,7 +123,7 @@ TEST(ImageCamera, FramesAnOpenSceneFromOutside) {
     EXPECT_NEAR(camera.yFovRad, 45 * kPi / 180, 1e-12);
     // A closed box whose faces point outwards is an object, not a room: also framed outside.
     Scene object;
-    object.mesh = test::closedRoom({0, 0, 0}, {1, 1, 1});
+    object.mesh = verify::closedRoom({0, 0, 0}, {1, 1, 1});
     for (auto& triangle : object.mesh.triangles)
         std::swap(triangle[1], triangle[2]);
     EXPECT_GT(frameScene(object, 1.0).position.z, 1);

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "image/camera.h"
-#include "image_test_util.h"
+#include "verify/scenes.h"
 
 namespace daisy {
 namespace {
@@ -24,8 +24,8 @@ Camera originCamera() {
 // The quad z = -1, |x|, |y| <= 4, facing the camera: it fills a 60 degree view.
 PatchMesh bigQuad() {
     TriangleMesh triangles;
-    test::addQuad(triangles, {-4, -4, -1}, {4, -4, -1}, {4, 4, -1}, {-4, 4, -1});
-    return test::patchesOf(triangles);
+    verify::addQuad(triangles, {-4, -4, -1}, {4, -4, -1}, {4, 4, -1}, {-4, 4, -1});
+    return verify::patchesOf(triangles);
 }
 
 TEST(ImageRenderer, ConstantCornersRenderExactlyThatValue) {

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "backend/backend.h"
-#include "radiosity/form_factor_scenes.h"
+#include "verify/scenes.h"
 #include "scene/load_scene.h"
 #include "test_util.h"
 
@@ -37,9 +37,9 @@ struct Built {
 const Built& built() {
     static const Built instance = [] {
         Built b;
-        TriangleMesh mesh = test::unitCubeRoom(3);
-        test::addGrid(mesh, {0.2, 0.2, 0.5}, {0.6, 0, 0}, {0, 0.6, 0}, 2, 2);
-        b.patches = test::patchesOf(mesh);
+        TriangleMesh mesh = verify::unitCubeRoom(3);
+        verify::addGrid(mesh, {0.2, 0.2, 0.5}, {0.6, 0, 0}, {0, 0.6, 0}, 2, 2);
+        b.patches = verify::patchesOf(mesh);
         b.settings.progress = false;
         b.result = std::move(makeCpuBackend()->buildFormFactors(b.patches, b.settings).value());
         return b;
@@ -134,7 +134,7 @@ TEST(FormFactorCacheKey, MatchesTheDocumentedByteStream) {
     mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
     mesh.triangles = {{0, 1, 2}};
     mesh.materials = {0};
-    const PatchMesh patches = test::patchesOf(mesh);
+    const PatchMesh patches = verify::patchesOf(mesh);
     FormFactorSettings k16;  // the Python oracle was computed with K = 16 (the default was then)
     k16.raysPerPair = 16;
     EXPECT_EQ(formFactorKey(patches, k16, "cpu").hex(), "0db8a05b2514ddc297bc7bd552f5c60b");
@@ -442,7 +442,7 @@ TEST(FormFactorCacheKey, LargeMeshes) {
     auto scene = loadScene(test::assetPath("scenes/blacklight_box.gltf"));
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     PatchMesh box = std::move(buildPatchMesh(scene->mesh, 0).value());
-    PatchMesh room = test::patchesOf(test::unitCubeRoom(91));
+    PatchMesh room = verify::patchesOf(verify::unitCubeRoom(91));
     ASSERT_EQ(box.patchCount(), 7712u);
     ASSERT_EQ(room.patchCount(), 99372u);  // 6 faces x 91^2 quads x 2
     for (PatchMesh* mesh : {&box, &room}) {

@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "image/image_test_util.h"
+#include "verify/scenes.h"
 
 namespace daisy {
 namespace {
@@ -28,7 +28,7 @@ TEST(ImageVertexRadiance, CoplanarSameMaterialAveragesByArea) {
     triangles.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {-2, 1, 0}};
     triangles.triangles = {{0, 1, 2}, {0, 2, 3}};  // areas 0.5 and 1.5
     triangles.materials = {0, 0};
-    const PatchMesh mesh = test::patchesOf(triangles);
+    const PatchMesh mesh = verify::patchesOf(triangles);
     ASSERT_EQ(mesh.patchCount(), 2u);
     const std::vector<float> values = {2, 10, 4, 8};  // patch 0 = (2, 10), patch 1 = (4, 8)
     const std::vector<float> corners = cornerValues(mesh, values, 2);
@@ -52,10 +52,10 @@ TEST(ImageVertexRadiance, CreaseAndMaterialBoundaryAreNotMixed) {
     // Floor quad (y = 0) and a wall quad (x = 0) meeting at a 90 degree crease along the z
     // axis, plus a coplanar floor quad of another material beside the first.
     TriangleMesh triangles;
-    test::addQuad(triangles, {0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, 0);  // floor, +y
-    test::addQuad(triangles, {0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}, 0);  // wall, +x
-    test::addQuad(triangles, {1, 0, 0}, {1, 0, 1}, {2, 0, 1}, {2, 0, 0}, 1);  // floor, other
-    const PatchMesh mesh = test::patchesOf(triangles);
+    verify::addQuad(triangles, {0, 0, 0}, {0, 0, 1}, {1, 0, 1}, {1, 0, 0}, 0);  // floor, +y
+    verify::addQuad(triangles, {0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}, 0);  // wall, +x
+    verify::addQuad(triangles, {1, 0, 0}, {1, 0, 1}, {2, 0, 1}, {2, 0, 0}, 1);  // floor, other
+    const PatchMesh mesh = verify::patchesOf(triangles);
     ASSERT_EQ(mesh.patchCount(), 6u);
     const std::vector<float> values = {1, 1, 5, 5, 9, 9};  // per quad
     const std::vector<float> corners = cornerValues(mesh, values, 1);

@@ -4,37 +4,13 @@
 
 #include <cmath>
 
+#include "verify/scenes.h"
+
 namespace daisy {
 namespace {
 
-void addQuad(TriangleMesh& mesh, Vec3d p0, Vec3d p1, Vec3d p2, Vec3d p3) {
-    const auto base = static_cast<uint32_t>(mesh.positions.size());
-    mesh.positions.insert(mesh.positions.end(), {p0, p1, p2, p3});
-    mesh.triangles.push_back({base, base + 1, base + 2});
-    mesh.triangles.push_back({base, base + 2, base + 3});
-    mesh.materials.insert(mesh.materials.end(), {0, 0});
-}
-
-// The box [lo, hi]^3 as 12 triangles, normals pointing inward (a room) or outward (an object).
-void addBox(TriangleMesh& mesh, double lo, double hi, bool inward) {
-    for (int axis = 0; axis < 3; ++axis) {
-        for (int side = 0; side < 2; ++side) {
-            Vec3d c[4];
-            const double uv[4][2] = {{lo, lo}, {hi, lo}, {hi, hi}, {lo, hi}};
-            for (int k = 0; k < 4; ++k) {
-                c[k][axis] = side == 0 ? lo : hi;
-                c[k][(axis + 1) % 3] = uv[k][0];
-                c[k][(axis + 2) % 3] = uv[k][1];
-            }
-            // This order's normal is +axis, which points inward on side 0.
-            if ((side == 0) == inward) {
-                addQuad(mesh, c[0], c[1], c[2], c[3]);
-            } else {
-                addQuad(mesh, c[0], c[3], c[2], c[1]);
-            }
-        }
-    }
-}
+using verify::addCube;
+using verify::addQuad;
 
 PatchMesh build(const TriangleMesh& mesh, double maxEdge) {
     auto patchMesh = buildPatchMesh(mesh, maxEdge);
@@ -49,7 +25,7 @@ TEST(MatrixEstimate, ClosedRoomFacesAllButItsOwnFace) {
     // dot(n_wall, c_floor - c_wall) = x_floor > 0. So each triangle faces the 10 triangles off its
     // face: 12 x 10 = 120 of the 12 x 11 = 132 ordered pairs, 10/11.
     TriangleMesh room;
-    addBox(room, 0, 1, true);
+    addCube(room, 0, 1, true);
     const MatrixEstimate estimate = estimateMatrixMemory(build(room, 0));
     EXPECT_EQ(estimate.patchCount, 12u);
     EXPECT_FALSE(estimate.sampled);
@@ -61,7 +37,7 @@ TEST(MatrixEstimate, ClosedRoomFacesAllButItsOwnFace) {
 TEST(MatrixEstimate, ConvexObjectSeenFromOutsideHasNoFacingPairs) {
     // Outward normals of a convex body: every other centroid is behind each face's plane.
     TriangleMesh box;
-    addBox(box, 0, 1, false);
+    addCube(box, 0, 1, false);
     const MatrixEstimate estimate = estimateMatrixMemory(build(box, 0));
     EXPECT_EQ(estimate.facingFraction, 0);
     EXPECT_EQ(estimate.nonzeros, 0u);
@@ -98,8 +74,8 @@ TEST(MatrixEstimate, SampledFractionMatchesExactCount) {
     // A room with a box in it, ~3300 patches: over the exact-count limit, so 200,000 sampled
     // pairs (standard error ~0.001) must land within 0.01 of the brute-force fraction.
     TriangleMesh scene;
-    addBox(scene, 0, 1, true);
-    addBox(scene, 0.4, 0.6, false);
+    addCube(scene, 0, 1, true);
+    addCube(scene, 0.4, 0.6, false);
     const PatchMesh mesh = build(scene, 0.1);
     ASSERT_GT(mesh.patchCount(), 3000u);
     uint64_t facingPairs = 0;

@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include "radiosity/form_factor_scenes.h"
 #include "radiosity/patch_clusters.h"
+#include "verify/scenes.h"
 
 namespace daisy {
 namespace {
@@ -75,8 +75,8 @@ TEST(Shaft, SkewShaftOfTwoTriangles) {
 // A solid face between two squares covers their shaft only when it spans every segment.
 TEST(PatchClusters, SolidFaceCoversAShaftItCrossesEntirely) {
     TriangleMesh mesh;
-    test::addGrid(mesh, {-1, -1, 0.5}, {3, 0, 0}, {0, 3, 0}, 3, 3);  // 9 quads tiling a square
-    const PatchMesh patches = test::patchesOf(mesh);
+    verify::addGrid(mesh, {-1, -1, 0.5}, {3, 0, 0}, {0, 3, 0}, 3, 3);  // 9 quads tiling a square
+    const PatchMesh patches = verify::patchesOf(mesh);
     const PatchClusters clusters = buildPatchClusters(patches, 1e-9);
     ASSERT_EQ(clusters.faces.size(), 1u);
     ASSERT_EQ(clusters.blockers.size(), 1u);  // the face stands in for its 18 triangles
@@ -90,9 +90,9 @@ TEST(PatchClusters, SolidFaceCoversAShaftItCrossesEntirely) {
 
 TEST(PatchClusters, RunsOfCoplanarPatchesUpToTheSizeLimit) {
     TriangleMesh mesh;
-    test::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 5, 5);  // 50 coplanar triangles
-    test::addGrid(mesh, {0, 0, 1}, {0, 1, 0}, {1, 0, 0}, 1, 1);  // 2 in another plane
-    const PatchClusters clusters = buildPatchClusters(test::patchesOf(mesh), 1e-9, 32);
+    verify::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 5, 5);  // 50 coplanar triangles
+    verify::addGrid(mesh, {0, 0, 1}, {0, 1, 0}, {1, 0, 0}, 1, 1);  // 2 in another plane
+    const PatchClusters clusters = buildPatchClusters(verify::patchesOf(mesh), 1e-9, 32);
     ASSERT_EQ(clusters.clusterCount(), 3u);
     EXPECT_EQ(clusters.cluster(0).begin, 0u);
     EXPECT_EQ(clusters.cluster(0).end, 32u);

@@ -10,10 +10,10 @@
 
 #include <unistd.h>
 
-#include "radiosity/form_factor_scenes.h"
 #include "radiosity/matrix_market.h"
 #include "radiosity/patch_csv.h"
 #include "test_util.h"
+#include "verify/scenes.h"
 
 namespace daisy {
 namespace {
@@ -108,8 +108,8 @@ TEST(MatrixMarket, UnwritablePathIsAnErrorNamingIt) {
 
 TEST(PatchCsv, HeaderRowsAndAppendedColumns) {
     TriangleMesh mesh;
-    test::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 1, 1);
-    const PatchMesh patches = test::patchesOf(mesh);
+    verify::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 1, 1);
+    const PatchMesh patches = verify::patchesOf(mesh);
     const std::string names[] = {"paint, \"red\""};
     const double energy[] = {1, 2, 3, 4};  // 2 patches x 2 columns
     const PatchCsvColumns extra[] = {{{"E_400", "E_500"}, energy}};
@@ -123,11 +123,11 @@ TEST(PatchCsv, HeaderRowsAndAppendedColumns) {
 
 TEST(PatchCsv, MismatchedColumnsAreRefusedWithoutAFile) {
     TriangleMesh mesh;
-    test::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 1, 1);
+    verify::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 1, 1);
     const double one[] = {1};
     const PatchCsvColumns extra[] = {{{"X"}, one}};
     const std::string path = (test::testTempDir() / "patches.csv").string();
-    EXPECT_FALSE(writePatchCsv(path, test::patchesOf(mesh), {}, extra).ok());
+    EXPECT_FALSE(writePatchCsv(path, verify::patchesOf(mesh), {}, extra).ok());
     EXPECT_FALSE(std::filesystem::exists(path));
 }
 

@@ -10,6 +10,7 @@
 #include "radiosity/form_factors.h"
 #include "scene/load_scene.h"
 #include "test_util.h"
+#include "verify/closed_forms.h"
 
 namespace daisy {
 namespace {
@@ -44,12 +45,14 @@ double plateFactor(const std::string& scenePath) {
 // Howell, "A Catalog of Radiation Heat Transfer Configuration Factors", C-11 (directly opposed
 // rectangles, X = Y = 1): 0.19982. 1% allows for the 128 patches per plate.
 TEST(AnalyticScenes, ParallelPlates) {
-    EXPECT_NEAR(plateFactor(test::assetPath("scenes/parallel_plates.gltf")), 0.19982, 0.002);
+    EXPECT_NEAR(plateFactor(test::assetPath("scenes/parallel_plates.gltf")), verify::kHowellC11,
+                0.002);
 }
 
 // Howell C-14 (perpendicular rectangles with a common edge, H = W = 1): 0.20004.
 TEST(AnalyticScenes, PerpendicularPlates) {
-    EXPECT_NEAR(plateFactor(test::assetPath("scenes/perpendicular_plates.gltf")), 0.20004, 0.002);
+    EXPECT_NEAR(plateFactor(test::assetPath("scenes/perpendicular_plates.gltf")),
+                verify::kHowellC14, 0.002);
 }
 
 }  // namespace

@@ -7,16 +7,13 @@
 #include <vector>
 
 #include "shared/formfactor.h"
+#include "verify/closed_forms.h"
 
 namespace daisy::shared {
 namespace {
 
-constexpr double kPiD = 3.14159265358979323846;
-
-// Howell C-11: parallel coaxial unit squares at distance 1.
-constexpr double kHowellC11 = 0.199824895698;
-// Howell C-14: perpendicular unit squares sharing an edge.
-constexpr double kHowellC14 = 0.200043776075;
+using verify::kHowellC11;  // Howell C-11: parallel coaxial unit squares at distance 1
+using verify::kHowellC14;  // Howell C-14: perpendicular unit squares sharing an edge
 
 struct Square {
     PatchGeometry t[2];
@@ -43,14 +40,6 @@ const Square kFloor = square({0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0});  // no
 const Square kCeiling = square({0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1});  // normal -z
 const Square kWall = square({0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1});  // normal +x
 
-// Howell B-3: differential element under the corner of an a x b rectangle at unit distance,
-// parallel to it.
-double cornerFactor(double a, double b) {
-    double sa = std::sqrt(1.0 + a * a);
-    double sb = std::sqrt(1.0 + b * b);
-    return (a / sa * std::atan(b / sa) + b / sb * std::atan(a / sb)) / (2.0 * kPiD);
-}
-
 TEST(FormFactorPoint, MatchesHowellB3RectangleCorner) {
     const double sizes[][2] = {{1.0, 1.0}, {0.25, 2.0}, {3.0, 0.5}, {10.0, 10.0}};
     for (const auto& size : sizes) {
@@ -61,7 +50,8 @@ TEST(FormFactorPoint, MatchesHowellB3RectangleCorner) {
         vec3 p(0, 0, 0);
         vec3 n(0, 0, 1);
         double f = pointToTriangleFactor(p, n, r.t[0]) + pointToTriangleFactor(p, n, r.t[1]);
-        double expected = cornerFactor(size[0], size[1]);
+        // Howell B-3 at unit distance.
+        double expected = verify::pointToRectangleCorner(size[0], size[1], 1);
         EXPECT_NEAR(f, expected, 2e-6 * expected) << "a = " << a << ", b = " << b;
     }
 }
@@ -277,10 +267,7 @@ TEST(FormFactorPoint, NearlyCoincidentPlaneSeesAlmostAHemisphere) {
 TEST(FormFactorPair, NearlyCoincidentParallelSquaresHowellC11) {
     const float gap = 1e-6f;
     const Square top = square({0, 0, gap}, {0, 1, gap}, {1, 1, gap}, {1, 0, gap});
-    const double x = 1.0 / double(gap), x1 = std::sqrt(1 + x * x);
-    const double exact = 2 / (kPiD * x * x) *
-        (0.5 * std::log((1 + x * x) * (1 + x * x) / (1 + 2 * x * x)) +
-         2 * x * x1 * std::atan(x / x1) - 2 * x * std::atan(x));
+    const double exact = verify::parallelRectangles(1, 1, double(gap));
     EXPECT_NEAR(squareFactor(DAISY_METHOD_HYBRID, 1, kFloor, top), exact, 1e-3);
 }
 

@@ -12,9 +12,11 @@
 #include <string>
 
 #include "pipeline/backend_registry.h"
-#include "radiosity/form_factor_scenes.h"
+#include "radiosity/matrix_compare.h"
 #include "scene/load_scene.h"
 #include "test_util.h"
+#include "verify/closed_forms.h"
+#include "verify/scenes.h"
 
 #ifdef DAISY_HAVE_VULKAN
 #include "vulkan/context.h"
@@ -24,21 +26,19 @@
 namespace daisy {
 namespace {
 
-using test::kHowellC11;
-using test::kHowellC14;
-using test::perpendicularSquares;
+using verify::kHowellC11;
+using verify::kHowellC14;
+using verify::patchesOf;
+using verify::perpendicularSquares;
 
 #ifdef DAISY_HAVE_VULKAN
 
 // Unit squares at z = 0 (facing +z) and z = 1 (facing -z), n x n quads each; with `blocker`, a
 // 0.5 x 0.5 two-sided-opaque square at z = 0.5 in the middle (facing +z).
 PatchMesh parallelSquares(int n, bool blocker) {
-    if (!blocker) return test::parallelSquares(n);
-    TriangleMesh mesh;
-    test::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, n, n);
-    test::addGrid(mesh, {0, 0, 1}, {0, 1, 0}, {1, 0, 0}, n, n);
-    test::addGrid(mesh, {0.25, 0.25, 0.5}, {0.5, 0, 0}, {0, 0.5, 0}, 1, 1);
-    return test::patchesOf(mesh);
+    TriangleMesh mesh = verify::parallelSquares(n);
+    if (blocker) verify::addGrid(mesh, {0.25, 0.25, 0.5}, {0.5, 0, 0}, {0, 0.5, 0}, 1, 1);
+    return patchesOf(mesh);
 }
 
 PatchMesh cornellBox() {
@@ -49,27 +49,22 @@ PatchMesh cornellBox() {
 
 // Area-weighted factor from patches [0, n/2) to [n/2, 2 n/2) (the first square to the second).
 double firstToSecond(const PatchMesh& mesh, const SparseMatrix& f, uint32_t half) {
-    return test::groupFactor(mesh, f, 0, half, half, 2 * half);
+    return verify::groupFactor(mesh, f, 0, half, half, 2 * half);
 }
 
-// Entries of either matrix farther apart than rtol max(|a|, |b|) + 1e-7 (counted; the first five
+// Entries of either matrix farther apart than rtol max(|a|, |b|) + 1e-7 (counted; the five worst
 // reported). The 1e-7 floor (`daisy validate`'s default --atol) is for the tiny factors of
 // nearly coplanar neighbours, whose float cancellation differs by ~1e-8 between the two
 // compilers (measured on the Cornell box: 6.902e-6 against 6.911e-6).
 uint64_t entriesOverTolerance(const SparseMatrix& a, const SparseMatrix& b, double rtol) {
     EXPECT_EQ(a.size, b.size);
-    uint64_t over = 0;
-    for (uint32_t i = 0; i < a.size; ++i) {
-        for (uint32_t j = 0; j < a.size; ++j) {
-            const double x = a.at(i, j), y = b.at(i, j);
-            const double bound = rtol * std::max(std::abs(x), std::abs(y)) + 1e-7;
-            if (std::abs(x - y) > bound) {
-                if (over < 5) ADD_FAILURE() << "F(" << i << ", " << j << "): " << x << " vs " << y;
-                ++over;
-            }
-        }
+    if (a.size != b.size) return 1;
+    const MatrixComparison c = compareMatrices(a, b, {rtol, 1e-7, 5});
+    for (const EntryDifference& d : c.worst) {
+        if (d.excess > 1)
+            ADD_FAILURE() << "F(" << d.row << ", " << d.column << "): " << d.a << " vs " << d.b;
     }
-    return over;
+    return c.overTolerance;
 }
 
 FormFactorSettings settingsFor(FormFactorMethod method, int rays) {
@@ -119,8 +114,8 @@ protected:
 
 TEST_F(VulkanBackendTest, AgreesWithReferenceOnAnalyticScenes) {
     expectAgreement(parallelSquares(3, false), "parallel squares");
-    expectAgreement(perpendicularSquares(3), "perpendicular squares");
-    expectAgreement(test::patchesOf(test::unitCubeRoom(2)), "unit cube room");
+    expectAgreement(patchesOf(perpendicularSquares(3)), "perpendicular squares");
+    expectAgreement(patchesOf(verify::unitCubeRoom(2)), "unit cube room");
 }
 
 TEST_F(VulkanBackendTest, AgreesWithReferenceOnOccludedScenes) {
@@ -134,7 +129,7 @@ TEST_F(VulkanBackendTest, MatchesHowellClosedForms) {
     FormFactorSettings settings;
     settings.progress = false;
     const PatchMesh parallel = parallelSquares(4, false);
-    const PatchMesh perpendicular = perpendicularSquares(4);
+    const PatchMesh perpendicular = patchesOf(perpendicularSquares(4));
     const uint32_t half = uint32_t(parallel.patchCount() / 2);
     EXPECT_NEAR(firstToSecond(parallel, build(*vulkan_, parallel, settings).matrix, half),
                 kHowellC11, 1e-3 * kHowellC11);

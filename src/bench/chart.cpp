@@ -1,4 +1,4 @@
-#include "image/chart.h"
+#include "bench/chart.h"
 
 #include <stb/stb_easy_font.h>
 

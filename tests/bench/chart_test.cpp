@@ -1,6 +1,6 @@
 // The bench plot's Pareto front (by definition: no other point is both faster and more accurate)
 // and the chart's drawing of it.
-#include "image/chart.h"
+#include "bench/chart.h"
 
 #include <gtest/gtest.h>
 
