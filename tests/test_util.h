@@ -44,8 +44,11 @@ struct RunResult {
 // emptied when a test first uses it, so no test sees another's cached matrices, while the runs
 // within one test share it.
 inline std::filesystem::path testCacheHome() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string(info->test_suite_name()) + "." + info->name();
+    const auto* unit = ::testing::UnitTest::GetInstance();
+    const auto* info = unit->current_test_info();  // null in SetUpTestSuite
+    const auto* suite = unit->current_test_suite();
+    std::string name = info ? std::string(info->test_suite_name()) + "." + info->name()
+                            : std::string(suite ? suite->name() : "global") + ".SetUp";
     for (char& c : name) {
         if (c == '/') c = '_';
     }

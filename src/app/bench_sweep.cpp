@@ -122,7 +122,8 @@ public:
         defaultMaxEdge_ = base_.subdivideMaxEdge ? *base_.subdivideMaxEdge
                                                  : chooseAutoPatchSize(scene_.mesh).maxEdge;
         auto defaultPatches = buildPatchMesh(scene_.mesh, defaultMaxEdge_);
-        if (!defaultPatches) return Error{concat(scene_.path, ": ", defaultPatches.error().message)};
+        if (!defaultPatches)
+            return Error{concat(scene_.path, ": ", defaultPatches.error().message)};
         referenceMaxEdge_ =
             chooseAutoPatchSize(scene_.mesh, referencePatchBudget(*defaultPatches)).maxEdge;
         return {};
@@ -166,8 +167,8 @@ public:
             row.residual = solved->residual;
             row.converged = solved->converged;
         }
-        Solution solution{session->patches(), session->wavelengths(),
-                          session->solution().radiosity, {}};
+        Solution solution{
+            session->patches(), session->wavelengths(), session->solution().radiosity, {}};
 
         Timer stage;
         auto image = renderXyz(solution, options.threads);

@@ -79,15 +79,15 @@ int runInfo(const CommonOptions& options) {
                     matrix.sampled ? ", sampled" : "", "), ",
                     formatBytes(static_cast<double>(matrix.matrixBytes)), " as CSR"));
     const auto& cacheDirectory = session->settings().cacheDirectory;
-    printRow("cached F",
-             !cacheDirectory ? std::string("no (--no-cache)")
-                 : session->formFactorsCached()
-                 ? concat("yes: ", FormFactorCache(*cacheDirectory)
-                                       .entryPath(session->formFactorKey())
-                                       .string())
-                 : concat("no (", options.backend, ", ", options.method, ", L ",
-                          options.quadratureLevel, ", K ", options.raysPerPair, ", seed ",
-                          options.seed, " not in ", cacheDirectory->string(), ")"));
+    printRow(
+        "cached F",
+        !cacheDirectory ? std::string("no (--no-cache)")
+            : session->formFactorsCached()
+            ? concat("yes: ",
+                     FormFactorCache(*cacheDirectory).entryPath(session->formFactorKey()).string())
+            : concat("no (", options.backend, ", ", options.method, ", L ", options.quadratureLevel,
+                     ", K ", options.raysPerPair, ", seed ", options.seed, " not in ",
+                     cacheDirectory->string(), ")"));
     if (matrix.matrixBytes > options.maxMemoryBytes) {
         printRow(
             "",

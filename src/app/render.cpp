@@ -64,7 +64,8 @@ void addBackground(Image& linearSrgb, const Image& rendered, int coverageChannel
 // independence, UV samples left out.
 std::string skippedSummary(const Session& session, const FormFactorReport& formFactors) {
     const FormFactorStats& s = formFactors.stats;
-    std::string text = concat(formFactors.fromCache ? "(the cached build) " : "",
+    std::string text = concat(
+        formFactors.fromCache ? "(the cached build) " : "",
         "skipped: ", percentOf(s.facingAway, s.pairs), " of patch pairs facing away, ",
         percentOf(s.clearClusterShafts + s.clearPairShafts, s.pairs), " with a clear shaft and ",
         percentOf(s.coveredPairs, s.pairs), " covered (no rays); ",
@@ -221,15 +222,14 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
                    formatDuration(t.solveSeconds), ", shade ", formatDuration(shadeSeconds),
                    ", render ", formatDuration(renderSeconds), ", write ",
                    formatDuration(writeSeconds), "; total ", formatDuration(total.seconds())));
-    logInfo(concat(
-        "  patches: ", formatCount(s.patches().patchCount()), " from ",
-        formatCount(s.scene().mesh.triangleCount()), " triangles (",
-        s.patchMaxEdge() == 0
-            ? std::string("input triangles")
-            : concat(s.automaticPatchSize() ? "automatic " : "", "--subdivide ", s.patchMaxEdge()),
-        "); ", s.system().wavelengthCount, " wavelengths (", s.wavelengths().name(), "); solve ",
-        solved->iterations, " iterations, residual ", formatNumber(solved->residual, 3),
-        solved->converged ? "" : " (not converged)"));
+    logInfo(concat("  patches: ", formatCount(s.patches().patchCount()), " from ",
+                   formatCount(s.scene().mesh.triangleCount()), " triangles (",
+                   s.patchMaxEdge() == 0 ? std::string("input triangles")
+                                         : concat(s.automaticPatchSize() ? "automatic " : "",
+                                                  "--subdivide ", s.patchMaxEdge()),
+                   "); ", s.system().wavelengthCount, " wavelengths (", s.wavelengths().name(),
+                   "); solve ", solved->iterations, " iterations, residual ",
+                   formatNumber(solved->residual, 3), solved->converged ? "" : " (not converged)"));
     logInfo(concat("  ", skippedSummary(s, *formFactors)));
     logInfo(concat("  peak memory: ", formatBytes(double(peakResidentBytes()))));
     return 0;

@@ -93,9 +93,9 @@ int runSolve(const CommonOptions& options, const ExportOptions& exports) {
     }
     if (verbosity() == Verbosity::Verbose) {
         const std::span<const double> sums = session->formFactorRowSums();
-        printEnergy(computeEnergyBalance(session->system(), sums,
-                                         solved->radiosity, solved->gathered),
-                    session->system());
+        printEnergy(
+            computeEnergyBalance(session->system(), sums, solved->radiosity, solved->gathered),
+            session->system());
     }
     if (!exports.patchesPath.empty()) {
         if (auto written = writeSolvedPatches(exports.patchesPath, *session); !written) {

@@ -11,10 +11,11 @@
 #include <memory>
 #include <numbers>
 
-#include "pipeline/backend_registry.h"
 #include "core/strings.h"
 #include "core/timer.h"
 #include "geometry/patch_mesh.h"
+#include "pipeline/backend_registry.h"
+#include "pipeline/session.h"
 #include "radiosity/energy.h"
 #include "radiosity/form_factors.h"
 #include "radiosity/matrix_compare.h"
@@ -43,8 +44,7 @@ constexpr double kPi = std::numbers::pi;
 
 struct Context {
     const StressSettings& settings;
-    Backend* backend = nullptr;  // null for solver-only cases
-    std::string backendName = "-";
+    std::string backendName = "-";  // "-" for solver-only cases
 };
 
 struct Built {
@@ -53,17 +53,37 @@ struct Built {
     std::string error;  // non-empty when the pipeline refused the input
 };
 
+// The mesh through the session, as every front end runs it: patches at maxEdge, then F on the
+// context's backend (no disk cache: every case measures its own build). The cases bring their
+// own radiosity systems (exact operators, unit bins), so the session's default materials only
+// make the scene complete.
 Built buildAll(const Context& context, const TriangleMesh& triangles, double maxEdge = 0) {
     Built built;
-    auto mesh = buildPatchMesh(triangles, maxEdge);
-    if (!mesh) return built.error = mesh.error().message, built;
-    built.mesh = std::move(*mesh);
-    FormFactorSettings settings;
-    settings.threads = context.settings.threads;
-    settings.progress = false;
-    auto f = context.backend->buildFormFactors(built.mesh, settings);
-    if (!f) return built.error = f.error().message, built;
-    built.f = std::move(f->matrix);
+    Scene scene;
+    scene.path = "stress";
+    scene.mesh = triangles;
+    uint32_t materials = 1;
+    for (uint32_t material : triangles.materials)
+        materials = std::max(materials, material + 1);
+    for (uint32_t k = 0; k < materials; ++k) {
+        Material material;
+        material.name = concat("m", k);
+        material.origin = concat("stress: material ", k);
+        scene.materials.push_back(material);
+    }
+    SessionSettings settings;
+    settings.backend = context.backendName;
+    settings.subdivideMaxEdge = maxEdge;
+    settings.formFactors.threads = context.settings.threads;
+    settings.formFactors.progress = false;
+    settings.wavelengths = *parseWavelengthSpec("550");
+    settings.wavelengthsText = "550";
+    settings.logStages = false;
+    auto session = Session::fromScene(std::move(scene), std::move(settings));
+    if (!session) return built.error = session.error().message, built;
+    if (auto f = session->buildFormFactors(); !f) return built.error = f.error().message, built;
+    built.mesh = session->patches();
+    built.f = session->formFactors();
     return built;
 }
 
@@ -426,16 +446,13 @@ std::vector<StressRow> runStressSuite(const StressSettings& settings,
                                       const std::function<void(const StressRow&)>& onRow) {
     std::vector<StressRow> rows;
     const bool quick = settings.quick;
-    std::vector<std::unique_ptr<Backend>> backends;
+    std::vector<std::string> backends;
     // Every backend that can run here (vulkan on whatever device exists: lavapipe in CI).
-    for (const std::string& name : backendNames()) {
-        if (name == "auto") continue;
-        auto backend = makeBackend(name);
-        if (backend && *backend) backends.push_back(std::move(*backend));
-    }
+    for (const std::string& name : builtInBackendNames())
+        if (makeBackend(name)) backends.push_back(name);
     const Context solverOnly{settings};
-    for (const auto& backend : backends) {
-        const Context c{settings, backend.get(), backend->name()};
+    for (const std::string& backend : backends) {
+        const Context c{settings, backend};
         run(rows, onRow, [&] {
             return closedBoxRowSums(c, "closed cube", {1, 1, 1}, quick ? 4 : 8);
         });

@@ -1,7 +1,7 @@
 #include "pipeline/session.h"
 
-#include <numbers>
 #include <new>
+#include <numbers>
 
 #include "core/check.h"
 #include "core/log.h"
@@ -72,8 +72,8 @@ Expected<void> prepare(Session::State& s) {
     if (s.settings.wavelengthSet) {
         s.wavelengths = *s.settings.wavelengthSet;
     } else {
-        auto set = makeWavelengthSet(s.settings.wavelengths, s.facts.hasUvLights,
-                                     s.facts.hasFluorescence);
+        auto set =
+            makeWavelengthSet(s.settings.wavelengths, s.facts.hasUvLights, s.facts.hasFluorescence);
         if (!set) {
             return Error{
                 concat("--wavelengths ", s.settings.wavelengthsText, ": ", set.error().message)};
@@ -90,8 +90,8 @@ Expected<void> prepare(Session::State& s) {
         s.maxEdge = size.maxEdge;
         s.automaticPatchSize = true;
         s.stageDetail(concat("patches: automatic size --subdivide ", s.maxEdge, " (budget ",
-                          formatCount(size.budget), " patches for ",
-                          formatCount(s.scene.mesh.triangleCount()), " triangles)"));
+                             formatCount(size.budget), " patches for ",
+                             formatCount(s.scene.mesh.triangleCount()), " triangles)"));
     }
     const uint64_t patchLimit = s.settings.maxMemoryBytes / kPatchMeshBytesPerPatch;
     auto patches = buildPatchMesh(s.scene.mesh, s.maxEdge, patchLimit);
@@ -108,16 +108,15 @@ Expected<void> prepare(Session::State& s) {
 
     const WavelengthSet& w = s.wavelengths;
     s.stageDetail(concat("wavelengths: ", w.name(), ", ", w.size(), " samples ",
-                      formatNumber(w.wavelengthNm(0)), "..",
-                      formatNumber(w.wavelengthNm(w.size() - 1)), " nm",
-                      s.facts.hasUvLights && s.facts.hasFluorescence
-                          ? " (scene has UV lights and fluorescent materials)"
-                          : ""));
-    s.stageDetail(concat("materials: ", s.scene.materials.size(), " as ", s.system.operators.size(),
-                      " distinct re-radiation matrices, ", s.fluorescentOperators, " fluorescent",
-                      s.fluorescentOperators
-                          ? ""
-                          : " (wavelengths solved independently, M diagonal)"));
+                         formatNumber(w.wavelengthNm(0)), "..",
+                         formatNumber(w.wavelengthNm(w.size() - 1)), " nm",
+                         s.facts.hasUvLights && s.facts.hasFluorescence
+                             ? " (scene has UV lights and fluorescent materials)"
+                             : ""));
+    s.stageDetail(
+        concat("materials: ", s.scene.materials.size(), " as ", s.system.operators.size(),
+               " distinct re-radiation matrices, ", s.fluorescentOperators, " fluorescent",
+               s.fluorescentOperators ? "" : " (wavelengths solved independently, M diagonal)"));
     return {};
 }
 
@@ -225,8 +224,8 @@ Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel) 
             report.seconds = timer.seconds();
             s.timings.viewFactorSeconds = report.seconds;
             s.stageLine(concat("view factors: ", formatCount(s.f.nonzeroCount()),
-                           " non-zeros from the cache ", report.cachePath, " in ",
-                           formatDuration(report.seconds)));
+                               " non-zeros from the cache ", report.cachePath, " in ",
+                               formatDuration(report.seconds)));
             return report;
         }
         if (lookup.status == CacheLookup::Status::Rejected) {
@@ -256,12 +255,14 @@ Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& 
     Timer timer;
     const MatrixEstimate estimate = matrixEstimate();
     s.stageLine(concat("view factors: ", formatCount(s.patches.patchCount()), " patches, ~",
-                   formatCount(estimate.nonzeros), " non-zeros, ~",
-                   formatBytes(static_cast<double>(estimate.matrixBytes)), " as CSR (estimate)"));
+                       formatCount(estimate.nonzeros), " non-zeros, ~",
+                       formatBytes(static_cast<double>(estimate.matrixBytes)),
+                       " as CSR (estimate)"));
     if (estimate.matrixBytes > s.settings.maxMemoryBytes) {
         return Error{concat(s.scenePath(), ": the view-factor matrix needs about ",
                             formatBytes(static_cast<double>(estimate.matrixBytes)), " for ",
-                            formatCount(s.patches.patchCount()), " patches, more than --max-memory ",
+                            formatCount(s.patches.patchCount()),
+                            " patches, more than --max-memory ",
                             formatBytes(static_cast<double>(s.settings.maxMemoryBytes)),
                             "; use a larger --subdivide or raise --max-memory")};
     }
@@ -273,8 +274,9 @@ Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& 
     FormFactorReport report;
     report.backendName = (*backend)->name();
     report.stats = result->stats;
-    s.stageLine(concat("view factors: ", formatCount(result->matrix.nonzeroCount()), " non-zeros in ",
-                   formatDuration(result->stats.totalSeconds), " on ", report.backendName));
+    s.stageLine(concat("view factors: ", formatCount(result->matrix.nonzeroCount()),
+                       " non-zeros in ", formatDuration(result->stats.totalSeconds), " on ",
+                       report.backendName));
     setFormFactors(std::move(result->matrix));
     report.seconds = timer.seconds();
     s.timings.viewFactorSeconds = report.seconds;
@@ -381,11 +383,11 @@ Expected<SolverResult> Session::solve(const SolveRequest& request) {
         logWarning(concat(s.scenePath(), ": ", solved->warning));
     }
     s.stageLine(concat("solve: ", solved->iterations, " iterations, residual ",
-                   formatNumber(solved->residual, 3), ", ", formatNumber(solved->seconds, 3),
-                   " s (", solverKindName(settings.kind), warm ? ", warm start" : "", ", ",
-                   formatCount(s.system.patchCount), " patches x ", s.system.wavelengthCount,
-                   " wavelengths", s.fluorescentOperators ? ", fluorescence" : "",
-                   solved->cancelled ? ", cancelled" : "", ")"));
+                       formatNumber(solved->residual, 3), ", ", formatNumber(solved->seconds, 3),
+                       " s (", solverKindName(settings.kind), warm ? ", warm start" : "", ", ",
+                       formatCount(s.system.patchCount), " patches x ", s.system.wavelengthCount,
+                       " wavelengths", s.fluorescentOperators ? ", fluorescence" : "",
+                       solved->cancelled ? ", cancelled" : "", ")"));
     s.solution = *solved;
     s.haveSolution = true;
     return solved;

@@ -88,8 +88,9 @@ public:
     // Loads settings.scenePath (warnings logged), then chooses the wavelength set and builds the
     // patches, E and M; F is built on first need. `afterLoad`, when given, runs on the loaded
     // scene before any other work, so a setting that depends on the scene fails fast.
-    static Expected<Session> open(SessionSettings settings,
-                                  const std::function<Expected<void>(const Scene&)>& afterLoad = {});
+    static Expected<Session> open(
+        SessionSettings settings,
+        const std::function<Expected<void>(const Scene&)>& afterLoad = {});
     // The same from a scene in memory (the stress suite, tests, bench rows).
     static Expected<Session> fromScene(Scene scene, SessionSettings settings);
 

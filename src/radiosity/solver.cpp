@@ -571,9 +571,10 @@ Expected<SolverResult> solveRadiosity(const SparseMatrix& formFactors,
     if ((!settings.initialRadiosity.empty() && settings.initialRadiosity.size() != n * m) ||
         (!settings.rowSums.empty() && settings.rowSums.size() != n) ||
         (settings.transposed && settings.transposed->size != n)) {
-        return Error{concat("the warm start, row sums or transpose given to the solver do not "
-                            "match its ",
-                            n, " patches x ", m, " wavelengths")};
+        return Error{
+            concat("the warm start, row sums or transpose given to the solver do not "
+                   "match its ",
+                   n, " patches x ", m, " wavelengths")};
     }
     tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
     try {

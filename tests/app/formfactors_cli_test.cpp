@@ -68,7 +68,8 @@ TEST(FormFactorsCli, CudaBackendNotBuiltYetIsExitTwo) {
     const RunResult run =
         runDaisy("formfactors " + kCornellBox + " -o /tmp/unused.mtx --quiet --backend cuda");
     EXPECT_EQ(run.status, 2) << run.output;
-    EXPECT_NE(run.output.find("backend 'cuda' is not built into this binary"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("backend 'cuda' is not built into this binary"), std::string::npos)
+        << run.output;
 }
 
 // An unwritable output is bad usage (exit 2) found before any work, naming the path, with no

@@ -33,7 +33,8 @@ TEST(Backend, AutoIsCpuOrVulkan) {
 TEST(Backend, UnbuiltAndUnknownBackendsAreErrors) {
     auto cuda = makeBackend("cuda");
     ASSERT_FALSE(cuda.ok());
-    EXPECT_NE(cuda.error().message.find("backend 'cuda' is not built into this binary"), std::string::npos);
+    EXPECT_NE(cuda.error().message.find("backend 'cuda' is not built into this binary"),
+              std::string::npos);
 #if !DAISY_HAVE_VULKAN
     auto vulkan = makeBackend("vulkan");
     ASSERT_FALSE(vulkan.ok());

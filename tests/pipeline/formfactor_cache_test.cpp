@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "backend/backend.h"
-#include "verify/scenes.h"
 #include "scene/load_scene.h"
 #include "test_util.h"
+#include "verify/scenes.h"
 
 namespace daisy {
 namespace {

@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "pipeline/backend_registry.h"
 #include "geometry/patch_mesh.h"
+#include "pipeline/backend_registry.h"
 #include "radiosity/form_factors.h"
 #include "scene/load_scene.h"
 #include "test_util.h"
