@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,7 +23,6 @@
 #include "image/image_io.h"
 #include "image/renderer.h"
 #include "pipeline/backend_registry.h"
-#include "pipeline/vertex_radiance.h"
 #include "radiosity/radiosity_system.h"
 #include "radiosity/solver.h"
 #include "spectral/color.h"
@@ -171,7 +169,7 @@ public:
             session->patches(), session->wavelengths(), session->solution().radiosity, {}};
 
         Timer stage;
-        auto image = renderXyz(solution, options.threads);
+        auto image = renderXyz(solution.patches, session->cornerChannels(false), options.threads);
         if (!image) return image.error();
         solution.xyz = std::move(*image);
         row.renderSeconds = stage.seconds();
@@ -330,21 +328,21 @@ private:
         return p;
     }
 
-    Expected<Image> renderXyz(const Solution& s, int threads) const {
-        const std::size_t n = s.patches.patchCount(), m = s.set.size();
-        std::vector<float> patchXyz(n * 3);
-        for (std::size_t i = 0; i < n; ++i) {
-            const Xyz c = s.set.toXyz(std::span<const double>(s.radiosity.data() + i * m, m));
-            for (int a = 0; a < 3; ++a)
-                patchXyz[i * 3 + a] = float(c[a] / std::numbers::pi);  // radiance = B / pi
-        }
-        const std::vector<float> corners = cornerValues(s.patches, patchXyz, 3);
+    // The radiance XYZ image of the session's smoothed corner values (X, Y, Z, coverage).
+    Expected<Image> renderXyz(const PatchMesh& patches, const std::vector<float>& corners,
+                              int threads) const {
         RenderSettings settings;
         settings.width = width_;
         settings.height = height_;
         settings.threads = threads;
-        const float background[3] = {0, 0, 0};
-        return renderCornerValues(s.patches, camera_, settings, corners, 3, background);
+        const float background[4] = {0, 0, 0, 0};
+        auto image = renderCornerValues(patches, camera_, settings, corners, 4, background);
+        if (!image) return image.error();
+        Image xyz(image->width, image->height, 3);
+        for (std::size_t p = 0; p < std::size_t(xyz.width) * xyz.height; ++p)
+            for (int c = 0; c < 3; ++c)
+                xyz.pixels[p * 3 + c] = image->pixels[p * 4 + c];
+        return xyz;
     }
 
     // Lab of every pixel as displayed: the reference's exposure, 8-bit sRGB, decoded under D65.
