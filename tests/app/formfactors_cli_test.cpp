@@ -76,7 +76,7 @@ TEST(FormFactorsCli, UnwritableOutputFailsCleanly) {
     const auto dir = test::testTempDir();
     const std::string path = (dir / "missing_dir" / "F.mtx").string();
     const RunResult run = runDaisy("formfactors " + kCornellBox + " -o " + path + " --quiet");
-    EXPECT_EQ(run.status, 1) << run.output;
+    EXPECT_EQ(run.status, 2) << run.output;  // found before any work (issue 14)
     EXPECT_NE(run.output.find(path), std::string::npos) << run.output;
     EXPECT_TRUE(std::filesystem::is_empty(dir));
 }

@@ -133,7 +133,7 @@ TEST(RenderCli, UnwritableOutputExitsOneWithoutPartialFile) {
     const auto dir = test::testTempDir();
     const RunResult run =
         runDaisy("render " + kFurnace + " -o " + (dir / "missing" / "a.png").string());
-    EXPECT_EQ(run.status, 1) << run.output;
+    EXPECT_EQ(run.status, 2) << run.output;  // found before any work (issue 14)
     EXPECT_NE(run.output.find("missing"), std::string::npos) << run.output;
     EXPECT_EQ(fileCount(dir), 0u);
 
@@ -141,7 +141,7 @@ TEST(RenderCli, UnwritableOutputExitsOneWithoutPartialFile) {
     std::filesystem::create_directory(dir / "taken.png");
     const RunResult taken = runDaisy("render " + kFurnace + " --width 8 --subdivide 0 -o " +
                                      (dir / "taken.png").string());
-    EXPECT_EQ(taken.status, 1) << taken.output;
+    EXPECT_EQ(taken.status, 2) << taken.output;
     EXPECT_NE(taken.output.find("taken.png"), std::string::npos) << taken.output;
     EXPECT_EQ(fileCount(dir), 1u);  // the directory, no temporary left behind
 }
