@@ -1,26 +1,33 @@
 #!/usr/bin/env bash
-# Builds the scene-loader fuzzer with clang, AddressSanitizer and UndefinedBehaviorSanitizer,
-# seeds it with the committed scenes and test fixtures, and fuzzes for SECONDS (default 120).
-# Crashing inputs are written to build-fuzz/crashes/.
+# Builds the libFuzzer targets (tests/fuzz/*_fuzz.cpp) with clang, AddressSanitizer and
+# UndefinedBehaviorSanitizer, regenerates their seed corpora (tools/make_fuzz_corpus.py) and
+# fuzzes TARGET for SECONDS: tools/fuzz.sh [TARGET|all] [SECONDS]. Defaults: all, 120 s each.
+# Each target grows build-fuzz/corpus/<target> from tests/fuzz/corpus/<target>; crashing inputs
+# go to build-fuzz/crashes/<target>/ (copy them to tests/fuzz/crashes/<target>/ once fixed:
+# ctest replays them).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-seconds=${1:-120}
+target=${1:-all}
+seconds=${2:-120}
 sanitize="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DDAISY_BUILD_FUZZERS=ON -DBUILD_TESTING=OFF \
-    -DCMAKE_CXX_FLAGS="$sanitize -fsanitize=fuzzer-no-link" \
+    -DDAISY_BUILD_FUZZERS=ON -DBUILD_TESTING=OFF -DDAISY_ENABLE_VULKAN=OFF \
+    -DDAISY_BUILD_VIEWER=OFF -DCMAKE_CXX_FLAGS="$sanitize -fsanitize=fuzzer-no-link" \
     -DCMAKE_EXE_LINKER_FLAGS="$sanitize" >/dev/null
-cmake --build build-fuzz --target scene_loader_fuzz -j2
-corpus=build-fuzz/corpus
-mkdir -p "$corpus" build-fuzz/crashes
-# Seeds: the first byte picks the format (0 .gltf, 1 .glb, 2 .obj), the rest is the file.
-i=0
-while IFS= read -r -d '' f; do
-    case "$f" in
-    *.gltf) tag='\x00' ;; *.glb) tag='\x01' ;; *.obj) tag='\x02' ;; *) continue ;;
-    esac
-    { printf "$tag"; cat "$f"; } >"$corpus/seed_$i"
-    i=$((i + 1))
-done < <(find assets tests/data -type f -print0 2>/dev/null)
-build-fuzz/scene_loader_fuzz "$corpus" -max_total_time="$seconds" -max_len=65536 \
-    -artifact_prefix=build-fuzz/crashes/ -print_final_stats=1
+python3 tools/make_fuzz_corpus.py
+targets=()
+for source in tests/fuzz/*_fuzz.cpp; do
+    name=$(basename "$source" _fuzz.cpp)
+    if [[ $target == all || $target == "$name" ]]; then targets+=("$name"); fi
+done
+cmake --build build-fuzz -j2 --target "${targets[@]/%/_fuzz}"
+for name in "${targets[@]}"; do
+    mkdir -p "build-fuzz/corpus/$name" "build-fuzz/crashes/$name"
+    dict=tests/fuzz/gltf.dict
+    [[ $name == obj ]] && dict=tests/fuzz/obj.dict
+    [[ $name == options ]] && dict=tests/fuzz/options.dict
+    # -max_len: the largest seed (blacklight_box.glb, about 220 KB) fits whole.
+    "build-fuzz/${name}_fuzz" "build-fuzz/corpus/$name" "tests/fuzz/corpus/$name" \
+        -dict="$dict" -max_total_time="$seconds" -max_len=262144 -rss_limit_mb=2048 \
+        -timeout=20 -artifact_prefix="build-fuzz/crashes/$name/" -print_final_stats=1
+done

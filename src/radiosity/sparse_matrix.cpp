@@ -116,6 +116,7 @@ void dropZeros(SparseMatrix& matrix) {
         uint64_t length = 0;
         for (uint32_t i = chunkBegin[c]; i < chunkBegin[c + 1]; ++i)
             length += kept[i + 1];
+        if (length == 0) continue;  // empty chunk: data() may be null (memmove's UB)
         std::memmove(matrix.columns.data() + out, matrix.columns.data() + source,
                      length * sizeof(uint32_t));
         std::memmove(matrix.values.data() + out, matrix.values.data() + source,

@@ -1,5 +1,6 @@
 #include "scene/gltf_document.h"
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 
@@ -169,13 +170,20 @@ Expected<void> checkGltfResources(const nlohmann::json& root, const std::string&
             if (!buffer.is_object())
                 return Error{where + ": " + describeJson(buffer) + ", expected an object"};
             const auto length = buffer.find("byteLength");
-            if (length == buffer.end() || !length->is_number_unsigned()) {
+            const bool integral = length != buffer.end() &&
+                (length->is_number_unsigned() ||
+                 (length->is_number_float() && length->get<double>() >= 0 &&
+                  length->get<double>() <= 9e15 &&
+                  length->get<double>() == std::floor(length->get<double>())));
+            if (!integral) {
                 return Error{
                     concat(where, ".byteLength: ",
                            length == buffer.end() ? std::string("missing") : describeJson(*length),
                            ", expected an integer >= 1")};
             }
-            const uint64_t byteLength = length->get<uint64_t>();
+            const uint64_t byteLength = length->is_number_unsigned()
+                ? length->get<uint64_t>()
+                : static_cast<uint64_t>(length->get<double>());
             const auto uri = buffer.find("uri");
             uint64_t available = 0;
             if (uri == buffer.end()) {

@@ -427,7 +427,7 @@ Expected<ParsedFile> parseFile(const std::string& path, LoadBudget& budget,
                                std::vector<std::string>& warnings) {
     std::error_code ec;
     const uint64_t fileBytes = std::filesystem::file_size(path, ec);
-    if (ec) return Error{"cannot read the file size: " + ec.message()};
+    if (ec) return Error{"cannot open the file"};
     if (auto charged = budget.charge(fileBytes, concat("the file (", fileBytes, " bytes)"));
         !charged) {
         return charged.error();

@@ -54,6 +54,7 @@ Error fail(const std::string& path, const std::string& problem) {
 
 // "string \"abc\"" for type errors, shortened for long values.
 std::string describe(const json& value) {
+    if (value.is_null()) return "null";
     std::string text = value.dump();
     if (text.size() > 40) text = text.substr(0, 37) + "...";
     return concat(value.type_name(), ' ', text);
@@ -89,7 +90,7 @@ Expected<double> readNumber(const json& value, const std::string& path, double l
     if (!value.is_number()) return fail(path, "expected a number, got " + describe(value));
     const double result = value.get<double>();
     if (!std::isfinite(result)) return fail(path, formatNumber(result) + " is not finite");
-    if (result < low && low == 0 && high == kInfinity) {
+    if (result < low && low == 0 && high > 1) {
         return fail(path, formatNumber(result) + unit + " is negative");
     }
     if (result < low || result > high) {

@@ -190,8 +190,7 @@ TEST(ObjLoader, ReaderErrorsNameTheFile) {
     const auto path =
         test::writeFile(test::testTempDir(), "zero.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n");
     const std::string message = loadError(path);
-    EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << message;
-    EXPECT_NE(message.find("line 4"), std::string::npos) << message;
+    EXPECT_EQ(message.rfind(path + ":4: f: '0' is not a vertex reference", 0), 0u) << message;
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;
 }
 
@@ -200,8 +199,7 @@ TEST(ObjLoader, NonFiniteVertexNamesItsLine) {
     const auto path = test::writeFile(test::testTempDir(), "inf.obj",
                                       "# comment\nv 0 0 0\n\nv 1e999 0 0\nv 0 1 0\nf 1 2 3\n");
     const std::string message = loadError(path);
-    EXPECT_EQ(message.rfind(path + ": vertex 2 (line 4) has a non-finite coordinate", 0), 0u)
-        << message;
+    EXPECT_EQ(message.rfind(path + ":4: v: '1e999' is not a finite number", 0), 0u) << message;
 }
 
 TEST(ObjLoader, BadMtlValues) {

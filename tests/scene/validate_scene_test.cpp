@@ -20,6 +20,7 @@ Scene twoTriangles() {
     Material material;
     material.name = "white";
     material.origin = "mem.gltf: materials[0]";
+    material.emissiveRgb = {1, 1, 1};  // an emitter, so no "no surface emits light" warning
     scene.materials.push_back(material);
     return scene;
 }

@@ -1,0 +1,339 @@
+// docs/errors.md, row by row (issue 14): each row names a bad input, the exact line daisy prints
+// and its exit status. The rows are read from the document itself, and every row's id must have
+// a case below that builds the input and gives the command, so the catalogue and the program
+// cannot drift apart. Inputs are variants of tests/data/gltf/lamp_room.gltf (a floor and a UV
+// lamp, two materials, one camera) or small OBJ files. `<dir>` in a message is the test's
+// temporary folder.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "test_util.h"
+
+namespace daisy::test {
+namespace {
+
+using nlohmann::json;
+
+json lampRoom() {
+    std::ifstream in(testDataPath("gltf/lamp_room.gltf"));
+    return json::parse(in);
+}
+
+json& spectral(json& room, int material) {
+    return room["materials"][material]["extensions"]["DAISY_materials_spectral"];
+}
+
+// A copy of lamp_room with its buffer uris as written (data: uris), saved as dir/name.
+std::string saveGltf(const std::filesystem::path& dir, const std::string& name, const json& doc) {
+    return writeFile(dir, name, doc.dump());
+}
+
+std::string wrapScale(json room, double scale) {
+    room["nodes"].push_back(
+        {{"scale", {scale, scale, scale}}, {"children", room["scenes"][0]["nodes"]}});
+    room["scenes"][0]["nodes"] = {room["nodes"].size() - 1};
+    return room.dump();
+}
+
+// The GLB of lamp_room: its one data: buffer as the BIN chunk.
+std::string lampRoomGlb() {
+    json room = lampRoom();
+    std::string uri = room["buffers"][0]["uri"];
+    const std::string base64 = uri.substr(uri.find(',') + 1);
+    std::string bin;
+    int bits = 0, value = 0;
+    for (char c : base64) {
+        const std::string alphabet =
+            "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        const auto at = alphabet.find(c);
+        if (at == std::string::npos) break;
+        value = (value << 6) | int(at);
+        bits += 6;
+        if (bits >= 8) {
+            bits -= 8;
+            bin += char((value >> bits) & 0xFF);
+        }
+    }
+    room["buffers"][0].erase("uri");
+    std::string text = room.dump();
+    while (text.size() % 4)
+        text += ' ';
+    while (bin.size() % 4)
+        bin += '\0';
+    auto u32 = [](uint32_t v) { return std::string(reinterpret_cast<const char*>(&v), 4); };
+    const std::string chunks =
+        u32(uint32_t(text.size())) + "JSON" + text + u32(uint32_t(bin.size())) + "BIN" + '\0' + bin;
+    return "glTF" + u32(2) + u32(uint32_t(12 + chunks.size())) + chunks;
+}
+
+std::string replaceU32(std::string bytes, std::size_t offset, uint32_t value) {
+    bytes.replace(offset, 4, std::string(reinterpret_cast<const char*>(&value), 4));
+    return bytes;
+}
+
+// Builds the input of a row in `dir` and returns the daisy arguments.
+using Case = std::function<std::string(const std::filesystem::path&)>;
+
+std::string info(const std::string& path, const std::string& extra = "") {
+    return "info " + path + extra;
+}
+
+const std::map<std::string, Case>& cases() {
+    static const std::map<std::string, Case> table = {
+        {"gltf-deep-extras",
+         [](const auto& dir) {
+             std::string text = lampRoom().dump();
+             text.insert(1,
+                         "\"extras\":" + std::string(15000, '[') + std::string(15000, ']') + ",");
+             return info(writeFile(dir, "deep.gltf", text));
+         }},
+        {"gltf-version-1",
+         [](const auto& dir) {
+             json room = lampRoom();
+             room["asset"]["version"] = "1.0";
+             return info(saveGltf(dir, "v1.gltf", room));
+         }},
+        {"gltf-version-3",
+         [](const auto& dir) {
+             json room = lampRoom();
+             room["asset"]["version"] = "3.0";
+             return info(saveGltf(dir, "v3.gltf", room));
+         }},
+        {"gltf-min-version",
+         [](const auto& dir) {
+             json room = lampRoom();
+             room["asset"]["minVersion"] = "2.5";
+             return info(saveGltf(dir, "min.gltf", room));
+         }},
+        {"gltf-reflectance-2^32",
+         [](const auto& dir) {
+             json room = lampRoom();
+             spectral(room, 0)["reflectance"] = {{"wavelengths", {400, 500, 600}},
+                                                 {"values", {0.5, 4294967296ull, 0.5}}};
+             return info(saveGltf(dir, "big.gltf", room));
+         }},
+        {"gltf-emission-negative-2^32",
+         [](const auto& dir) {
+             json room = lampRoom();
+             spectral(room, 1)["emission"] = {{"wavelengths", {350, 400}},
+                                              {"values", {-4294967295ll, 1}}};
+             return info(saveGltf(dir, "neg.gltf", room));
+         }},
+        {"gltf-fluorescence-column",
+         [](const auto& dir) {
+             json room = lampRoom();
+             spectral(room, 0)["fluorescence"] = {
+                 {"matrix",
+                  {{"wavelengths", {400, 500}},
+                   {"values", {{0.5, 0}, {4294967296ull + 4294967296ull, 0.5}}}}}};
+             return info(saveGltf(dir, "column.gltf", room));
+         }},
+        {"gltf-wavelength-2^32",
+         [](const auto& dir) {
+             json room = lampRoom();
+             spectral(room, 0)["reflectance"] = {{"wavelengths", {400, 4294967696ull}},
+                                                 {"values", {0.5, 0.5}}};
+             return info(saveGltf(dir, "nm.gltf", room));
+         }},
+        {"gltf-null-value",
+         [](const auto& dir) {
+             json room = lampRoom();
+             spectral(room, 0)["reflectance"] = {{"wavelengths", {400, 500, 600}},
+                                                 {"values", {0.5, nullptr, 0.5, 0.5}}};
+             return info(saveGltf(dir, "null.gltf", room));
+         }},
+        {"gltf-empty-fluorescence",
+         [](const auto& dir) {
+             json room = lampRoom();
+             spectral(room, 0)["fluorescence"] = json::object();
+             return info(saveGltf(dir, "empty.gltf", room));
+         }},
+        {"materials-reflectance-2^32",
+         [](const auto& dir) {
+             const std::string materials = writeFile(
+                 dir, "m.json",
+                 R"({"floor": {"reflectance": {"wavelengths": [400, 500, 600], "values": [0.5, 4294967296, 0.5]}}})");
+             return info(testDataPath("gltf/lamp_room.gltf"), " --materials " + materials);
+         }},
+        {"gltf-emissive-strength-1e308",
+         [](const auto& dir) {
+             json room = lampRoom();
+             room["materials"][1]["extensions"].erase("DAISY_materials_spectral");
+             room["materials"][1]["extensions"]["KHR_materials_emissive_strength"] = {
+                 {"emissiveStrength", 1e308}};
+             return info(saveGltf(dir, "strong.gltf", room));
+         }},
+        {"gltf-no-emitter",
+         [](const auto& dir) {
+             json room = lampRoom();
+             room["materials"][1].erase("emissiveFactor");
+             room["materials"][1].erase("extensions");
+             return info(saveGltf(dir, "dark.gltf", room));
+         }},
+        {"gltf-scale-1e12",
+         [](const auto& dir) {
+             return info(writeFile(dir, "huge.gltf", wrapScale(lampRoom(), 1e12)));
+         }},
+        {"gltf-scale-1e-12",
+         [](const auto& dir) {
+             return info(writeFile(dir, "tiny.gltf", wrapScale(lampRoom(), 1e-12)));
+         }},
+        {"gltf-camera-1e18",
+         [](const auto& dir) {
+             json room = lampRoom();
+             room["nodes"][3]["translation"] = {1e18, 0, 0};
+             return info(saveGltf(dir, "camera.gltf", room));
+         }},
+        {"gltf-buffer-uri-dot",
+         [](const auto& dir) {
+             json room = lampRoom();
+             room["buffers"][0]["uri"] = ".";
+             return info(saveGltf(dir, "dot.gltf", room));
+         }},
+        {"gltf-accessor-count-2^32-1",
+         [](const auto& dir) {
+             json room = lampRoom();
+             room["accessors"][0] = {
+                 {"componentType", 5126}, {"count", 4294967295ull}, {"type", "VEC3"}};
+             return info(saveGltf(dir, "count.gltf", room), " --max-memory 1G");
+         }},
+        {"gltf-sparse-max-memory",
+         [](const auto& dir) {
+             json room = lampRoom();
+             room["accessors"][0] = {{"componentType", 5126},
+                                     {"count", 30000000},
+                                     {"type", "VEC3"},
+                                     {"sparse",
+                                      {{"count", 1},
+                                       {"indices", {{"bufferView", 1}, {"componentType", 5123}}},
+                                       {"values", {{"bufferView", 0}}}}}};
+             return info(saveGltf(dir, "sparse.gltf", room), " --max-memory 1M");
+         }},
+        {"glb-chunk-length",
+         [](const auto& dir) {
+             return info(writeFile(dir, "chunk.glb", replaceU32(lampRoomGlb(), 12, 1u << 30)));
+         }},
+        {"glb-total-length",
+         [](const auto& dir) {
+             return info(writeFile(dir, "length.glb", replaceU32(lampRoomGlb(), 8, 99)));
+         }},
+        {"glb-truncated",
+         [](const auto& dir) {
+             const std::string glb = lampRoomGlb();
+             return info(writeFile(dir, "cut.glb", replaceU32(glb.substr(0, 30), 8, 30)));
+         }},
+        {"obj-nan",
+         [](const auto& dir) {
+             return info(writeFile(dir, "nan.obj", "v 0 0 0\nv nan 1 0\nv 0 1 0\nf 1 2 3\n"));
+         }},
+        {"obj-word",
+         [](const auto& dir) {
+             return info(writeFile(dir, "word.obj", "v 0 0 0\nv 1 0 0\nv hello 1 0\nf 1 2 3\n"));
+         }},
+        {"tolerance-0",
+         [](const auto&) {
+             return "solve " + testDataPath("gltf/lamp_room.gltf") + " --tolerance 0";
+         }},
+        {"render-unwritable-output",
+         [](const auto& dir) {
+             return "render " + testDataPath("gltf/lamp_room.gltf") + " -o " +
+                 (dir / "missing" / "out.png").string();
+         }},
+        {"formfactors-output-is-folder",
+         [](const auto& dir) {
+             return "formfactors " + testDataPath("gltf/lamp_room.gltf") + " -o " + dir.string();
+         }},
+    };
+    return table;
+}
+
+struct Row {
+    std::string id, message;
+    int status = -1;
+};
+
+// The rows of docs/errors.md's catalogue: "| `id` | input | `message` | status |".
+std::vector<Row> catalogueRows() {
+    std::ifstream in(std::string(DAISY_DOCS_DIR) + "/errors.md");
+    std::vector<Row> rows;
+    std::string line;
+    while (std::getline(in, line)) {
+        if (!line.starts_with("| `")) continue;
+        std::vector<std::string> cells;
+        std::stringstream stream(line.substr(1));
+        std::string cell;
+        while (std::getline(stream, cell, '|')) {
+            const auto first = cell.find_first_not_of(' ');
+            const auto last = cell.find_last_not_of(' ');
+            cells.push_back(first == std::string::npos ? "" : cell.substr(first, last - first + 1));
+        }
+        if (cells.size() < 4) continue;
+        auto unquote = [](std::string text) {
+            if (text.size() >= 2 && text.front() == '`' && text.back() == '`') {
+                text = text.substr(1, text.size() - 2);
+            }
+            return text;
+        };
+        rows.push_back({unquote(cells[0]), unquote(cells[2]), std::stoi(cells[3])});
+    }
+    return rows;
+}
+
+std::string replaceAll(std::string text, const std::string& from, const std::string& to) {
+    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at)) {
+        text.replace(at, from.size(), to);
+        at += to.size();
+    }
+    return text;
+}
+
+TEST(ErrorsCatalogue, EveryRowHasACaseAndEveryCaseARow) {
+    const std::vector<Row> rows = catalogueRows();
+    ASSERT_GE(rows.size(), cases().size()) << "docs/errors.md has too few rows";
+    std::map<std::string, int> seen;
+    for (const Row& row : rows) {
+        EXPECT_TRUE(cases().count(row.id)) << "no test case for docs/errors.md row " << row.id;
+        seen[row.id]++;
+    }
+    for (const auto& [id, make] : cases()) {
+        EXPECT_EQ(seen[id], 1) << "case " << id << " should appear once in docs/errors.md";
+    }
+}
+
+// Each row: the command prints the row's message as one whole line and exits with its status;
+// nothing is left behind in the folder but the inputs.
+TEST(ErrorsCatalogue, EachRowGivesItsMessageAndStatus) {
+    for (const Row& row : catalogueRows()) {
+        const auto found = cases().find(row.id);
+        if (found == cases().end()) continue;
+        SCOPED_TRACE(row.id);
+        const auto dir = testTempDir() / row.id;
+        std::filesystem::create_directories(dir);
+        const std::string arguments = found->second(dir);
+        const std::string expected = replaceAll(row.message, "<dir>", dir.string());
+        const RunResult run = runDaisy(arguments);
+        EXPECT_EQ(run.status, row.status) << run.output;
+        EXPECT_NE(("\n" + run.output).find("\n" + expected + "\n"), std::string::npos)
+            << "expected the line\n  " << expected << "\ngot\n"
+            << run.output;
+        for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+            EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << entry.path();
+        }
+    }
+}
+
+}  // namespace
+}  // namespace daisy::test
