@@ -324,15 +324,34 @@ Expected<void> Session::setMaterial(std::size_t index, Material material) {
         return Error{concat("material index ", index, " out of range (the scene has ",
                             s.scene.materials.size(), " materials)")};
     }
-    Scene edited = s.scene;
-    edited.materials[index] = std::move(material);
     Timer timer;
-    auto system = buildRadiositySystem(edited, s.patches, s.wavelengths);
-    if (!system) {
-        return Error{concat("material '", edited.materials[index].name,
-                            "' not changed: ", system.error().message)};
+    const std::string name = material.name;
+    std::swap(s.scene.materials[index], material);  // `material` now holds the old one
+    const auto refuse = [&](const Error& error) -> Expected<void> {
+        std::swap(s.scene.materials[index], material);
+        return Error{concat("material '", name, "' not changed: ", error.message)};
+    };
+    // An edit can add the scene's first fluorescent material or UV light: the `auto` set (and
+    // the presets) then gain UV excitation samples, and the solution its new size.
+    auto facts = sceneSpectralFacts(s.scene);
+    if (!facts) return refuse(facts.error());
+    WavelengthSet set = s.wavelengths;
+    if (!s.settings.wavelengthSet &&
+        (facts->hasUvLights != s.facts.hasUvLights ||
+         facts->hasFluorescence != s.facts.hasFluorescence)) {
+        auto remade =
+            makeWavelengthSet(s.settings.wavelengths, facts->hasUvLights, facts->hasFluorescence);
+        if (!remade) return refuse(remade.error());
+        set = std::move(*remade);
     }
-    s.scene.materials[index] = std::move(edited.materials[index]);
+    auto system = buildRadiositySystem(s.scene, s.patches, set);
+    if (!system) return refuse(system.error());
+    s.facts = *facts;
+    if (set.size() != s.wavelengths.size()) {
+        s.haveSolution = false;
+        s.solution = {};
+    }
+    s.wavelengths = std::move(set);
     s.system = std::move(*system);
     s.fluorescentOperators = countFluorescent(s.system);
     s.timings.meshSeconds = timer.seconds();

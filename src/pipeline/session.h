@@ -132,7 +132,9 @@ public:
 
     // ---- edits (F untouched) ----
     // Replaces material `index` and rebuilds E and M; the solution is kept as the warm start.
-    // Errors name the material and leave the session as it was.
+    // When the edit adds or removes the scene's UV lights or fluorescence, the wavelength set is
+    // made again from the settings' spec (`auto` gains or loses its UV samples) and a solution of
+    // the old size is dropped. Errors name the material and leave the session as it was.
     Expected<void> setMaterial(std::size_t index, Material material);
     // Chooses a new wavelength set (E, M rebuilt; the solution is dropped: its size changes).
     Expected<void> setWavelengths(const WavelengthSpec& spec, const std::string& text);

@@ -9,7 +9,9 @@
 #include <cstring>
 #include <filesystem>
 
+#include "core/strings.h"
 #include "test_util.h"
+#include "verify/scenes.h"
 
 namespace daisy {
 namespace {
@@ -225,6 +227,42 @@ TEST(Session, InvalidMaterialEditIsRefused) {
     const auto& kept = session.scene().materials[red].spectral.reflectance;
     EXPECT_FALSE(kept && std::holds_alternative<TabulatedSpectrum>(kept->shape) &&
                  std::get<TabulatedSpectrum>(kept->shape).values[0] == 1.5);
+}
+
+// Making a wall fluorescent in a room lit by a black light: the `auto` set gains its UV samples
+// (DESIGN.md section 4), the old-sized solution is dropped, F is kept, and the wall now glows.
+TEST(Session, FluorescentEditAddsTheUvSamples) {
+    Scene scene;
+    scene.path = "room";
+    verify::addRoom(scene.mesh, {0, 0, 0}, {1, 1, 1}, 2);  // face f has material f
+    for (int face = 0; face < 6; ++face) {
+        Material material;
+        material.name = concat("face", face);
+        material.origin = concat("room: material ", face);
+        scene.materials.push_back(material);
+    }
+    scene.materials[1].spectral.emission = SpectrumSpec{PresetSpectrum{"blacklight"}, 1.0};
+    SessionSettings settings;
+    settings.backend = "cpu";
+    settings.subdivideMaxEdge = 0;
+    settings.formFactors.progress = false;
+    settings.logStages = false;
+    auto session = Session::fromScene(std::move(scene), settings);
+    ASSERT_TRUE(session.ok()) << session.error().message;
+    ASSERT_TRUE(session->solve().ok());
+    const std::size_t before = session->wavelengths().size();
+    EXPECT_GE(session->wavelengths().wavelengthNm(0), 400.0);  // no fluorescence: no UV samples
+
+    Material glowing = session->scene().materials[0];
+    glowing.spectral.fluorescence = FluorophorePreset{"fluorescein"};
+    ASSERT_TRUE(session->setMaterial(0, glowing).ok());
+    EXPECT_GT(session->wavelengths().size(), before);
+    EXPECT_LT(session->wavelengths().wavelengthNm(0), 400.0);
+    EXPECT_FALSE(session->hasSolution());
+    EXPECT_EQ(session->fluorescentOperatorCount(), 1u);
+    ASSERT_TRUE(session->solve().ok());
+    EXPECT_EQ(session->formFactorBuildCount(), 1u);
+    EXPECT_GT(meanY(*session, 0), 0.0);
 }
 
 }  // namespace
