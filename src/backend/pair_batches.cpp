@@ -127,7 +127,7 @@ Expected<FormFactorResult> build(const PatchMesh& mesh, const FormFactorSettings
     const auto pairStart = Clock::now();
     {
         Progress progress("view factors", candidatePairs, "pairs",
-                          settings.progress && progressEnabledByDefault());
+                          settings.progress && progressEnabledByDefault(), settings.onProgress);
         std::vector<PairIndex> batch;
         batch.reserve(capacity);
         std::vector<PairFactors> results;

@@ -23,11 +23,13 @@ bool progressEnabledByDefault() {
 Progress::Progress(std::string stage, uint64_t total, std::string unit)
     : Progress(std::move(stage), total, std::move(unit), progressEnabledByDefault()) {}
 
-Progress::Progress(std::string stage, uint64_t total, std::string unit, bool enabled)
+Progress::Progress(std::string stage, uint64_t total, std::string unit, bool enabled,
+                   ProgressObserver observer)
     : stage_(std::move(stage)),
       unit_(std::move(unit)),
       total_(total),
       enabled_(enabled),
+      observer_(std::move(observer)),
       start_(std::chrono::steady_clock::now()) {
     nextDrawNs_ = static_cast<int64_t>(kRedrawSeconds * 1e9);
 }
@@ -42,20 +44,22 @@ double Progress::elapsedSeconds() const {
 
 void Progress::advance(uint64_t amount) {
     done_.fetch_add(amount, std::memory_order_relaxed);
-    if (!enabled_) return;
+    if (!enabled_ && !observer_) return;
     const int64_t now = nanoseconds(std::chrono::steady_clock::now() - start_);
     int64_t next = nextDrawNs_.load(std::memory_order_relaxed);
     // The thread that moves the deadline forward draws; the others carry on.
     if (now >= next &&
         nextDrawNs_.compare_exchange_strong(next,
                                             now + static_cast<int64_t>(kRedrawSeconds * 1e9))) {
-        draw(false);
+        if (observer_) observer_(stage_, done_.load(std::memory_order_relaxed), total_);
+        if (enabled_) draw(false);
     }
 }
 
 void Progress::finish() {
     if (finished_) return;
     finished_ = true;
+    if (observer_) observer_(stage_, total_, total_);
     if (enabled_ && drawn_) draw(true);
 }
 

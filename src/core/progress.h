@@ -6,16 +6,25 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <string>
+#include <string_view>
 
 namespace daisy {
+
+// Told of a stage's progress, for front ends that draw their own (the viewer): called from the
+// thread that advances the stage, at most every Progress::kRedrawSeconds, and once at its end
+// (done == total). Must be cheap and thread-safe.
+using ProgressObserver = std::function<void(std::string_view stage, uint64_t done, uint64_t total)>;
 
 class Progress {
 public:
     // total: units of work in the stage (> 0 for percentages); unit: their name ("pairs").
-    // enabled = false silences it (tests); by default it follows progressEnabledByDefault().
+    // enabled = false silences the terminal line (tests); by default it follows
+    // progressEnabledByDefault(). `observer`, when set, is told either way.
     Progress(std::string stage, uint64_t total, std::string unit);
-    Progress(std::string stage, uint64_t total, std::string unit, bool enabled);
+    Progress(std::string stage, uint64_t total, std::string unit, bool enabled,
+             ProgressObserver observer = {});
     ~Progress();
     Progress(const Progress&) = delete;
     Progress& operator=(const Progress&) = delete;
@@ -35,6 +44,7 @@ private:
     std::string unit_;
     uint64_t total_;
     bool enabled_;
+    ProgressObserver observer_;
     bool finished_ = false;
     bool drawn_ = false;
     std::chrono::steady_clock::time_point start_;

@@ -48,11 +48,12 @@ struct Session::State {
 namespace {
 
 // The form-factor settings as the backends take them: the session's memory limit applies.
-FormFactorSettings formFactorSettingsOf(const SessionSettings& settings,
-                                        const CancelToken* cancel) {
+FormFactorSettings formFactorSettingsOf(const SessionSettings& settings, const CancelToken* cancel,
+                                        const ProgressObserver& onProgress) {
     FormFactorSettings ff = settings.formFactors;
     ff.maxMemoryBytes = settings.maxMemoryBytes == UINT64_MAX ? 0 : settings.maxMemoryBytes;
     ff.cancel = cancel;
+    if (onProgress) ff.onProgress = onProgress;
     return ff;
 }
 
@@ -201,7 +202,8 @@ bool Session::formFactorsCached() const {
     return dir && FormFactorCache(*dir).contains(formFactorKey());
 }
 
-Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel) {
+Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel,
+                                                     const ProgressObserver& onProgress) {
     State& s = *state_;
     FormFactorReport report;
     if (s.haveF) {
@@ -233,7 +235,7 @@ Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel) 
             logWarning(lookup.message);
         }
     }
-    auto built = buildFormFactorsUncached(s.settings.backend, cancel);
+    auto built = buildFormFactorsUncached(s.settings.backend, cancel, onProgress);
     if (!built) return built.error();
     report.backendName = built->backendName;
     report.stats = built->stats;
@@ -250,7 +252,8 @@ Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel) 
 }
 
 Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& backendName,
-                                                             const CancelToken* cancel) {
+                                                             const CancelToken* cancel,
+                                                             const ProgressObserver& onProgress) {
     State& s = *state_;
     Timer timer;
     const MatrixEstimate estimate = matrixEstimate();
@@ -268,7 +271,8 @@ Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& 
     }
     auto backend = makeBackend(backendName, BackendOptions{s.settings.device});
     if (!backend) return Error{concat("--backend ", backendName, ": ", backend.error().message)};
-    auto result = (*backend)->buildFormFactors(s.patches, formFactorSettingsOf(s.settings, cancel));
+    auto result = (*backend)->buildFormFactors(
+        s.patches, formFactorSettingsOf(s.settings, cancel, onProgress));
     if (!result) return withContext(result.error(), s.scenePath());
     ++s.builds;
     FormFactorReport report;
@@ -380,7 +384,7 @@ Expected<void> Session::setWavelengths(const WavelengthSpec& spec, const std::st
 Expected<SolverResult> Session::solve(const SolveRequest& request) {
     State& s = *state_;
     if (!s.haveF) {
-        auto built = buildFormFactors(request.cancel);
+        auto built = buildFormFactors(request.cancel, request.onProgress);
         if (!built) return built.error();
     }
     SolverSettings settings = s.settings.solver;

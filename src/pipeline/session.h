@@ -70,6 +70,7 @@ struct FormFactorReport {
 struct SolveRequest {
     bool warmStart = true;  // start from the last solution when there is one (of the same size)
     const CancelToken* cancel = nullptr;
+    ProgressObserver onProgress;  // of the F build, when the solve needs F first
     std::function<void(int iteration, std::span<const double> radiosity)> onIteration;
     std::optional<int> maxIterations;  // overrides the settings' (the viewer's bounce stepping)
     std::optional<SolverKind> kind;  // overrides the settings' solver
@@ -118,10 +119,13 @@ public:
     // Makes F available: from memory (no work), the disk cache, or the backend (then stored in
     // the cache). Refuses a matrix over maxMemoryBytes before building. A cancelled build is an
     // error saying so, and leaves no F.
-    Expected<FormFactorReport> buildFormFactors(const CancelToken* cancel = nullptr);
+    // `onProgress`, when given, is told of the build's progress (core/progress.h).
+    Expected<FormFactorReport> buildFormFactors(const CancelToken* cancel = nullptr,
+                                                const ProgressObserver& onProgress = {});
     // Builds F on the backend, bypassing the cache in both directions (validate, bench).
     Expected<FormFactorReport> buildFormFactorsUncached(const std::string& backend,
-                                                        const CancelToken* cancel = nullptr);
+                                                        const CancelToken* cancel = nullptr,
+                                                        const ProgressObserver& onProgress = {});
     bool hasFormFactors() const;
     const SparseMatrix& formFactors() const;  // precondition: hasFormFactors()
     std::span<const double> formFactorRowSums() const;  // precondition: hasFormFactors()

@@ -548,7 +548,7 @@ Expected<FormFactorResult> PairLoop::run() {
     const auto pairStart = Clock::now();
     {
         Progress progress("view factors", stats_.pairs, "pairs",
-                          settings_.progress && progressEnabledByDefault());
+                          settings_.progress && progressEnabledByDefault(), settings_.onProgress);
         tbb::enumerable_thread_specific<ThreadScratch> scratch;
         std::mutex statsMutex;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blockCluster_.size() - 1, 1),

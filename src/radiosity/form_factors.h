@@ -24,6 +24,7 @@
 
 #include "core/cancel.h"
 #include "core/expected.h"
+#include "core/progress.h"
 #include "geometry/patch_mesh.h"
 #include "radiosity/ray_caster.h"
 #include "radiosity/sparse_matrix.h"
@@ -50,6 +51,7 @@ struct FormFactorSettings {
     uint64_t maxMemoryBytes = 0;  // refuse a build needing more; 0 = no limit
     bool shaftCulling = true;  // off only to measure what it saves
     bool progress = true;  // progress line on a terminal (core/progress.h decides if shown)
+    ProgressObserver onProgress;  // told of the pair loop's progress (core/progress.h); optional
     // Polled between row blocks / batches; when cancelled the build stops and returns the Error
     // kInterruptedMessage. Null = never cancelled. interruptToken() (core/interrupt.h) for SIGINT.
     const CancelToken* cancel = nullptr;

@@ -56,7 +56,7 @@ Expected<FormFactorResult> computeStochastic(const PatchMesh& mesh,
     std::vector<Chunk> chunks(chunkCount);
     {
         Progress progress("stochastic rays", uint64_t(n) * uint64_t(rayCount), "rays",
-                          settings.progress && progressEnabledByDefault());
+                          settings.progress && progressEnabledByDefault(), settings.onProgress);
         tbb::parallel_for(uint32_t(0), chunkCount, [&](uint32_t c) {
             if (isCancelled(settings.cancel)) return;
             Chunk& chunk = chunks[c];

@@ -8,6 +8,9 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <mutex>
+#include <utility>
+#include <vector>
 
 #include "core/strings.h"
 #include "test_util.h"
@@ -145,6 +148,25 @@ TEST(Session, CancelledSolveReturnsPromptlyWithStatus) {
     ASSERT_TRUE(none.ok());
     EXPECT_TRUE(none->cancelled);
     EXPECT_EQ(none->iterations, 0);
+}
+
+// The F build tells an observer its progress (what the viewer draws): counts never decrease, and
+// the last call is done == total, the number of unordered patch pairs.
+TEST(Session, FormFactorBuildReportsProgress) {
+    Session session = openOk(cornellSettings());
+    std::mutex mutex;
+    std::vector<std::pair<uint64_t, uint64_t>> calls;
+    auto built =
+        session.buildFormFactors(nullptr, [&](std::string_view, uint64_t done, uint64_t total) {
+            std::lock_guard lock(mutex);
+            calls.emplace_back(done, total);
+        });
+    ASSERT_TRUE(built.ok());
+    ASSERT_FALSE(calls.empty());
+    const uint64_t n = session.patches().patchCount();
+    EXPECT_EQ(calls.back().first, calls.back().second);
+    EXPECT_EQ(calls.back().second, n * (n - 1) / 2);
+    EXPECT_EQ(calls.back().second, built->stats.pairs);
 }
 
 // A cancelled F build is an error that says so, and leaves no F.
