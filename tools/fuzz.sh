@@ -27,7 +27,7 @@ for name in "${targets[@]}"; do
     [[ $name == obj ]] && dict=tests/fuzz/obj.dict
     [[ $name == options ]] && dict=tests/fuzz/options.dict
     # -max_len: the largest seed (blacklight_box.glb, about 220 KB) fits whole.
-    "build-fuzz/${name}_fuzz" "build-fuzz/corpus/$name" "tests/fuzz/corpus/$name" \
+    "build-fuzz/tests/fuzz/${name}_fuzz" "build-fuzz/corpus/$name" "tests/fuzz/corpus/$name" \
         -dict="$dict" -max_total_time="$seconds" -max_len=262144 -rss_limit_mb=2048 \
         -timeout=20 -artifact_prefix="build-fuzz/crashes/$name/" -print_final_stats=1
 done
