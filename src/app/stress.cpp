@@ -45,6 +45,7 @@ constexpr double kPi = std::numbers::pi;
 struct Context {
     const StressSettings& settings;
     std::string backendName = "-";  // "-" for solver-only cases
+    std::shared_ptr<Backend> backend;  // shared by the cases' sessions (one Vulkan device)
 };
 
 struct Built {
@@ -73,6 +74,7 @@ Built buildAll(const Context& context, const TriangleMesh& triangles, double max
     }
     SessionSettings settings;
     settings.backend = context.backendName;
+    settings.backendInstance = context.backend;
     settings.subdivideMaxEdge = maxEdge;
     settings.formFactors.threads = context.settings.threads;
     settings.formFactors.progress = false;
@@ -446,13 +448,13 @@ std::vector<StressRow> runStressSuite(const StressSettings& settings,
                                       const std::function<void(const StressRow&)>& onRow) {
     std::vector<StressRow> rows;
     const bool quick = settings.quick;
-    std::vector<std::string> backends;
+    std::vector<std::shared_ptr<Backend>> backends;
     // Every backend that can run here (vulkan on whatever device exists: lavapipe in CI).
     for (const std::string& name : builtInBackendNames())
-        if (makeBackend(name)) backends.push_back(name);
-    const Context solverOnly{settings};
-    for (const std::string& backend : backends) {
-        const Context c{settings, backend};
+        if (auto backend = makeBackend(name)) backends.push_back(std::move(*backend));
+    const Context solverOnly{settings, "-", nullptr};
+    for (const auto& backend : backends) {
+        const Context c{settings, backend->name(), backend};
         run(rows, onRow, [&] {
             return closedBoxRowSums(c, "closed cube", {1, 1, 1}, quick ? 4 : 8);
         });

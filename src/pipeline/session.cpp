@@ -269,14 +269,18 @@ Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& 
                             formatBytes(static_cast<double>(s.settings.maxMemoryBytes)),
                             "; use a larger --subdivide or raise --max-memory")};
     }
-    auto backend = makeBackend(backendName, BackendOptions{s.settings.device});
-    if (!backend) return Error{concat("--backend ", backendName, ": ", backend.error().message)};
-    auto result = (*backend)->buildFormFactors(
-        s.patches, formFactorSettingsOf(s.settings, cancel, onProgress));
+    std::shared_ptr<Backend> backend = s.settings.backendInstance;
+    if (!backend || backendName != s.settings.backend) {
+        auto made = makeBackend(backendName, BackendOptions{s.settings.device});
+        if (!made) return Error{concat("--backend ", backendName, ": ", made.error().message)};
+        backend = std::move(*made);
+    }
+    auto result =
+        backend->buildFormFactors(s.patches, formFactorSettingsOf(s.settings, cancel, onProgress));
     if (!result) return withContext(result.error(), s.scenePath());
     ++s.builds;
     FormFactorReport report;
-    report.backendName = (*backend)->name();
+    report.backendName = backend->name();
     report.stats = result->stats;
     s.stageLine(concat("view factors: ", formatCount(result->matrix.nonzeroCount()),
                        " non-zeros in ", formatDuration(result->stats.totalSeconds), " on ",

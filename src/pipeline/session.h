@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "backend/backend.h"
 #include "core/cancel.h"
 #include "core/expected.h"
 #include "geometry/patch_mesh.h"
@@ -43,6 +44,10 @@ struct SessionSettings {
     SceneLoadOptions load;
     std::string backend = "auto";  // a name of pipeline/backend_registry.h
     std::string device;  // --device
+    // A backend already made (makeBackend) to build F with instead of making one from `backend`:
+    // sessions that share it share its device (a Vulkan device takes ~0.6 s to create on
+    // lavapipe). `backend` must still name it (the cache key's family comes from the name).
+    std::shared_ptr<Backend> backendInstance;
     FormFactorSettings formFactors;  // method, L, K, N, seed, threads; maxMemoryBytes below
     std::optional<double> subdivideMaxEdge;  // scene units; 0 = the input triangles
     PatchSizeDefault defaultPatchSize = PatchSizeDefault::InputTriangles;
