@@ -31,8 +31,11 @@ std::string temporaryPathFor(const std::string& path) {
     return path + ".tmp-" + std::to_string(getpid());
 }
 
-Expected<void> writeFileAtomically(const std::string& path,
-                                   const std::function<std::string(std::FILE*)>& write) {
+namespace {
+
+// Creates (truncates) the temporary sibling of `path`, registered for removal on interrupt, and
+// returns it open for writing; an Error naming `path` when `path` cannot be an output.
+Expected<std::FILE*> openTemporary(const std::string& path) {
     if (const std::string problem = outputProblem(path); !problem.empty()) {
         return Error{cannotWrite(path, problem)};
     }
@@ -44,6 +47,17 @@ Expected<void> writeFileAtomically(const std::string& path,
         unregisterTempFile(temporary);
         return Error{cannotWrite(path, std::strerror(openErrno))};
     }
+    return file;
+}
+
+}  // namespace
+
+Expected<void> writeFileAtomically(const std::string& path,
+                                   const std::function<std::string(std::FILE*)>& write) {
+    auto opened = openTemporary(path);
+    if (!opened) return opened.error();
+    std::FILE* file = *opened;
+    const std::string temporary = temporaryPathFor(path);
     std::string message = write(file);
     const bool streamFailed = std::ferror(file) != 0;
     const int streamErrno = errno;
@@ -62,18 +76,9 @@ Expected<void> writeFileAtomically(const std::string& path,
 }
 
 Expected<AtomicOutput> AtomicOutput::open(const std::string& path) {
-    if (const std::string problem = outputProblem(path); !problem.empty()) {
-        return Error{cannotWrite(path, problem)};
-    }
-    const std::string temporary = temporaryPathFor(path);
-    registerTempFile(temporary);
-    std::FILE* file = std::fopen(temporary.c_str(), "wb");
-    if (file == nullptr) {
-        const int openErrno = errno;
-        unregisterTempFile(temporary);
-        return Error{cannotWrite(path, std::strerror(openErrno))};
-    }
-    std::fclose(file);
+    auto opened = openTemporary(path);
+    if (!opened) return opened.error();
+    std::fclose(*opened);
     AtomicOutput output;
     output.path_ = path;
     return output;
