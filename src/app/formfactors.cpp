@@ -66,8 +66,11 @@ int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
     const std::vector<std::string> comments = {
         "DaisyRiot view-factor matrix F: entry (i, j) = F_ij, the fraction of the energy leaving "
         "patch i that arrives at patch j (1-based patch indices; patches.csv lists them 0-based)",
-        concat("scene ", options.scenePath, "; backend ", run->backendName, "; method ",
-               options.method, "; quadrature ", options.quadratureLevel, "; rays ",
+        concat("scene ", options.scenePath, "; backend ",
+               run->fromCache
+                   ? concat(options.backend, " (F read from the cache ", run->cachePath, ")")
+                   : run->backendName,
+               "; method ", options.method, "; quadrature ", options.quadratureLevel, "; rays ",
                options.raysPerPair,
                options.method == "stochastic" ? concat("; stochastic rays ", options.stochasticRays)
                                               : std::string(),
@@ -86,14 +89,14 @@ int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
             return 1;
         }
     }
-    logInfo(concat("view factors: ", formatCount(matrix.nonzeroCount()), " non-zeros (",
-                   formatBytes(static_cast<double>(matrix.bytes())), ") in ",
-                   formatDuration(run->seconds), " on ", run->backendName,
-                   run->fromCache ? concat(" ", run->cachePath, ", built") : std::string(), " (",
-                   options.method, "); pairs skipped without rays: ", formatCount(stats.facingAway),
-                   " facing away, ", formatCount(stats.clearClusterShafts + stats.clearPairShafts),
-                   " clear shafts, ", formatCount(stats.coveredPairs), " covered; ",
-                   formatCount(stats.raysCast), " rays cast"));
+    // The session has said where F came from; this line adds what was written and skipped.
+    logInfo(concat(
+        "formfactors: wrote ", exports.matrixPath, " (", formatCount(matrix.nonzeroCount()),
+        " non-zeros, ", formatBytes(static_cast<double>(matrix.bytes())), ", ", options.method,
+        "); pairs skipped without rays", run->fromCache ? " in the cached build" : "", ": ",
+        formatCount(stats.facingAway), " facing away, ",
+        formatCount(stats.clearClusterShafts + stats.clearPairShafts), " clear shafts, ",
+        formatCount(stats.coveredPairs), " covered; ", formatCount(stats.raysCast), " rays cast"));
     printVerboseStats(stats);
     return 0;
 }
