@@ -128,6 +128,23 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     };
     auto session = openSession(options, PatchSizeDefault::Automatic, chooseCameraFor);
     if (!session) return 2;
+    const bool spectral = render.spectralExr;
+    const int m = static_cast<int>(session->system().wavelengthCount);
+    const int channels = Session::channelCount(std::size_t(m), spectral);
+    RenderSettings settings;
+    settings.width = width;
+    settings.height = height;
+    settings.samplesPerPixel = render.samplesPerPixel;
+    settings.threads = options.threads;
+    settings.maxMemoryBytes = options.maxMemoryBytes;
+    // The image's memory is known now: refuse it before the view factors, not after.
+    if (const uint64_t bytes = renderImageBytes(settings, channels);
+        bytes > options.maxMemoryBytes) {
+        logError(concat(options.scenePath, ": a ", width, " x ", height, " image of ", channels,
+                        " channels needs about ", formatBytes(double(bytes)),
+                        ", over --max-memory ", formatBytes(double(options.maxMemoryBytes))));
+        return 2;
+    }
     auto formFactors = session->buildFormFactors(&interruptToken());
     if (!formFactors) {
         logError(formFactors.error().message);
@@ -141,20 +158,11 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
 
     // Shade: per-patch radiance -> per-corner values.
     Timer stage;
-    const bool spectral = render.spectralExr;
-    const int m = static_cast<int>(session->system().wavelengthCount);
     const int xyzChannel = spectral ? m : 0;
-    const int channels = Session::channelCount(std::size_t(m), spectral);
     const std::vector<float> corners = session->cornerChannels(spectral);
     const double shadeSeconds = stage.seconds();
 
     stage.restart();
-    RenderSettings settings;
-    settings.width = width;
-    settings.height = height;
-    settings.samplesPerPixel = render.samplesPerPixel;
-    settings.threads = options.threads;
-    settings.maxMemoryBytes = options.maxMemoryBytes;
     const std::vector<float> missValue(std::size_t(channels), 0.0f);
     auto rendered =
         renderCornerValues(session->patches(), camera, settings, corners, channels, missValue);

@@ -256,6 +256,11 @@ const std::map<std::string, Case>& cases() {
          [](const auto& dir) {
              return "formfactors " + testDataPath("gltf/lamp_room.gltf") + " -o " + dir.string();
          }},
+        {"render-image-max-memory",
+         [](const auto& dir) {
+             return "render " + saveGltf(dir, "room.gltf", lampRoom()) +
+                 " --width 16384 --height 16384 --max-memory 1G -o " + (dir / "big.png").string();
+         }},
     };
     return table;
 }
