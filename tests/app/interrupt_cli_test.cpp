@@ -67,9 +67,10 @@ TEST(InterruptCli, SigintDuringFormFactorsExits130AndRemovesTheTemporary) {
     const auto dir = testTempDir();
     const auto matrix = dir / "F.mtx";
     // The Cornell box at --subdivide 0.02 takes several seconds of form factors.
-    const Interrupted run = runAndSignal({"formfactors", assetPath("scenes/cornell_box.gltf"), "-o",
-                                          matrix.string(), "--subdivide", "0.02", "--quiet"},
-                                         SIGINT, 1.0, dir / "log.txt");
+    const Interrupted run =
+        runAndSignal({"formfactors", assetPath("scenes/cornell_box.gltf"), "-o", matrix.string(),
+                      "--subdivide", "0.02", "--quiet", "--no-cache"},
+                     SIGINT, 1.0, dir / "log.txt");
     EXPECT_EQ(run.status, 130) << run.output;
     EXPECT_LT(run.secondsAfterSignal, 1.0);
     EXPECT_EQ(run.output, "error: interrupted by SIGINT; stopped, temporary files removed\n");
@@ -80,9 +81,10 @@ TEST(InterruptCli, SigintDuringFormFactorsExits130AndRemovesTheTemporary) {
 TEST(InterruptCli, SigtermDuringRenderExits130) {
     const auto dir = testTempDir();
     const auto image = dir / "out.png";
-    const Interrupted run = runAndSignal({"render", assetPath("scenes/cornell_box.gltf"), "-o",
-                                          image.string(), "--subdivide", "0.02", "--quiet"},
-                                         SIGTERM, 1.0, dir / "log.txt");
+    const Interrupted run =
+        runAndSignal({"render", assetPath("scenes/cornell_box.gltf"), "-o", image.string(),
+                      "--subdivide", "0.02", "--quiet", "--no-cache"},
+                     SIGTERM, 1.0, dir / "log.txt");
     EXPECT_EQ(run.status, 130) << run.output;
     EXPECT_LT(run.secondsAfterSignal, 1.0);
     EXPECT_EQ(run.output, "error: interrupted by SIGTERM; stopped, temporary files removed\n");

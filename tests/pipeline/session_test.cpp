@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <numbers>
 #include <utility>
 #include <vector>
 
@@ -285,6 +286,29 @@ TEST(Session, FluorescentEditAddsTheUvSamples) {
     ASSERT_TRUE(session->solve().ok());
     EXPECT_EQ(session->formFactorBuildCount(), 1u);
     EXPECT_GT(meanY(*session, 0), 0.0);
+}
+
+// The display colours of the white furnace (tools/make_analytic_scenes.py: closed cube, flat
+// reflectance 0.5, flat emission 1, so B = E / (1 - rho) = 2 and the radiance 2 / pi everywhere):
+// every corner's linear sRGB is the sRGB of that flat radiance, to the row sums' accuracy.
+TEST(Session, FurnaceCornerColoursAreTheExactRadiance) {
+    SessionSettings settings;
+    settings.scenePath = test::assetPath("scenes/furnace_box.gltf");
+    settings.backend = "cpu";
+    settings.subdivideMaxEdge = 0;
+    settings.formFactors.progress = false;
+    settings.solver.tolerance = 1e-6;
+    settings.logStages = false;
+    Session session = openOk(settings);
+    ASSERT_TRUE(session.solve().ok());
+    const std::vector<double> radiance(session.wavelengths().size(), 2.0 / std::numbers::pi);
+    const Rgb expected = xyzToLinearSrgb(session.wavelengths().toXyz(radiance));
+    const std::vector<float> rgb = session.cornerLinearSrgb();
+    ASSERT_EQ(rgb.size(), std::size_t(session.patches().patchCount()) * 3 * 3);
+    for (std::size_t k = 0; k < rgb.size(); ++k)
+        ASSERT_NEAR(rgb[k], expected[k % 3], 0.02 * expected[k % 3]) << k;
+    // Scaled by an exposure factor.
+    EXPECT_NEAR(session.cornerLinearSrgb(0.5)[0], 0.5 * rgb[0], 1e-6 * rgb[0]);
 }
 
 }  // namespace
