@@ -16,6 +16,9 @@ int runSolve(const CommonOptions& options, const ExportOptions& exports);
 // `daisy render SCENE -o out.png|.exr|.pfm`: the whole pipeline, then a ray-cast image (issue 6).
 int runRender(const CommonOptions& options, const RenderOptions& render);
 
+// `daisy view SCENE [--screenshot out.png --frames N]`: the viewer (issue 15, docs/viewer.md).
+int runView(const CommonOptions& options, const ViewOptions& view);
+
 // `daisy validate SCENE --backend vulkan|cuda --against reference`: entry-by-entry comparison
 // of two backends' matrices; 1 when over tolerance.
 int runValidate(const CommonOptions& options, const ValidateOptions& validate);

@@ -80,6 +80,19 @@ int main(int argc, char** argv) {
     viewCmd->add_option("--screenshot", view.screenshotPath, "Save a PNG of the last frame");
     viewCmd->add_option("--frames", view.frames, "Frames to show, then exit")
         ->check(CLI::Range(1, 1000000));
+    viewCmd->add_option("--camera", view.camera, "Camera name or index");
+    viewCmd->add_option("--width", view.width, "Window width")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 16384));
+    viewCmd->add_option("--height", view.height, "Window height")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 16384));
+    viewCmd->add_option("--exposure", view.exposure, "Exposure in EV, or auto")
+        ->capture_default_str();
+    viewCmd->add_option("--edit", view.edits, "Material edit NAME.FIELD=VALUE (repeatable)");
+    viewCmd->add_flag("--exercise-window", view.exerciseWindow,
+                      "Resize and minimise the window during the frames (tests)");
+    viewCmd->add_flag("--panel", view.panel, "Show the panel in the --frames mode too");
 
     auto* validateCmd = app.add_subcommand("validate", "Compare a backend's matrix to another's");
     addCommonOptions(*validateCmd, common);
@@ -139,7 +152,7 @@ int main(int argc, char** argv) {
     }
     if (*renderCmd) return runRender(common, render);
     if (*solveCmd) return runSolve(common, exports);
-    if (*viewCmd) return notBuiltYet("view", "the viewer");
+    if (*viewCmd) return runView(common, view);
     if (*validateCmd) return runValidate(common, validate);
     if (*benchCmd) return runBench(common, bench);
     return 1;

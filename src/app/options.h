@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -60,6 +61,13 @@ struct RenderOptions {
 struct ViewOptions {
     std::string screenshotPath;
     int frames = 0;  // 0 = run until the window closes
+    std::string camera;  // name or index; empty = first camera or automatic framing
+    int width = 1280;  // the window's size at start
+    int height = 720;
+    std::string exposure = "auto";  // "auto" or a fixed EV
+    std::vector<std::string> edits;  // --edit NAME.FIELD=VALUE (viewer/material_edit.h)
+    bool exerciseWindow = false;  // --exercise-window: resize and minimise (tests)
+    bool panel = false;  // --panel: the panel in the --frames mode too
 };
 
 struct ExportOptions {

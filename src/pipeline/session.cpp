@@ -406,7 +406,8 @@ Expected<SolverResult> Session::solve(const SolveRequest& request) {
     auto solved = solveRadiosity(s.f, s.system, settings);
     if (!solved) return Error{concat(s.scenePath(), ": ", solved.error().message)};
     s.timings.solveSeconds = timer.seconds();
-    if (!solved->converged && !solved->cancelled) {
+    // A caller-bounded solve (the viewer's bounce stepping) stops short of convergence on purpose.
+    if (!solved->converged && !solved->cancelled && !request.maxIterations) {
         logWarning(concat(s.scenePath(), ": ", solved->warning));
     }
     s.stageLine(concat("solve: ", solved->iterations, " iterations, residual ",

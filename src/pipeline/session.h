@@ -150,8 +150,8 @@ public:
 
     // ---- solve ----
     // Solves B = E + M F B (building F first if needed). Not converging within the iteration
-    // limit is a warning (logged), not an error; cancellation returns the last iterate with
-    // cancelled = true.
+    // limit is a warning (logged, except when request.maxIterations bounds the solve), not an
+    // error; cancellation returns the last iterate with cancelled = true.
     Expected<SolverResult> solve(const SolveRequest& request = {});
     bool hasSolution() const;
     const SolverResult& solution() const;  // precondition: hasSolution()

@@ -59,6 +59,10 @@ void vkCheckFailed(VkResult result, const char* call, const char* file, int line
 
 namespace {
 
+const char* const kNoDevice =
+    "no Vulkan device found (no GPU driver, and no software driver such as Mesa lavapipe: "
+    "mesa-vulkan-drivers)";
+
 // Loads the Vulkan loader once per process; false when none is installed.
 bool loaderPresent() {
     static const bool present = volkInitialize() == VK_SUCCESS;
@@ -81,7 +85,7 @@ bool layerPresent(const char* name) {
     return false;
 }
 
-Expected<VkInstance> createInstance() {
+Expected<VkInstance> makeInstance(std::span<const char* const> extensions) {
     if (!loaderPresent()) {
         return Error{
             "no Vulkan loader (libvulkan.so.1) is installed; install a Vulkan driver "
@@ -100,6 +104,8 @@ Expected<VkInstance> createInstance() {
     app.apiVersion = VK_API_VERSION_1_2;
     VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
     info.pApplicationInfo = &app;
+    info.enabledExtensionCount = uint32_t(extensions.size());
+    info.ppEnabledExtensionNames = extensions.data();
     const char* validationLayer = "VK_LAYER_KHRONOS_validation";
     if (validationRequested()) {
         if (layerPresent(validationLayer)) {
@@ -127,8 +133,31 @@ Expected<VkInstance> createInstance() {
     return instance;
 }
 
-// What `device` lacks for the pair kernel, or "" and its compute queue family.
-std::string checkDevice(VkPhysicalDevice device, uint32_t& queueFamily) {
+bool hasDeviceExtension(VkPhysicalDevice device, const char* name) {
+    uint32_t count = 0;
+    vkEnumerateDeviceExtensionProperties(device, nullptr, &count, nullptr);
+    std::vector<VkExtensionProperties> extensions(count);
+    vkEnumerateDeviceExtensionProperties(device, nullptr, &count, extensions.data());
+    for (const VkExtensionProperties& extension : extensions) {
+        if (std::strcmp(extension.extensionName, name) == 0) return true;
+    }
+    return false;
+}
+
+// True when `device` has the compute backend's features.
+bool hasComputeFeatures(VkPhysicalDevice device) {
+    VkPhysicalDeviceVulkan12Features features12{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    features.pNext = &features12;
+    vkGetPhysicalDeviceFeatures2(device, &features);
+    return features12.bufferDeviceAddress && features12.scalarBlockLayout &&
+        features.features.shaderInt64;
+}
+
+// What `device` lacks for `requirements`, or "" and the queue family to use.
+std::string checkDevice(VkPhysicalDevice device, const DeviceRequirements& requirements,
+                        uint32_t& queueFamily) {
     VkPhysicalDeviceProperties properties;
     vkGetPhysicalDeviceProperties(device, &properties);
     if (properties.apiVersion < VK_API_VERSION_1_2) return "Vulkan 1.2";
@@ -141,21 +170,35 @@ std::string checkDevice(VkPhysicalDevice device, uint32_t& queueFamily) {
     const auto need = [&](bool present, const char* name) {
         if (!present) missing += missing.empty() ? name : concat(", ", name);
     };
-    need(features12.bufferDeviceAddress, "bufferDeviceAddress");
-    need(features12.scalarBlockLayout, "scalarBlockLayout");
-    need(features.features.shaderInt64, "shaderInt64");
+    if (requirements.compute) {
+        need(features12.bufferDeviceAddress, "bufferDeviceAddress");
+        need(features12.scalarBlockLayout, "scalarBlockLayout");
+        need(features.features.shaderInt64, "shaderInt64");
+    }
+    if (requirements.presentSurface) {
+        need(hasDeviceExtension(device, VK_KHR_SWAPCHAIN_EXTENSION_NAME), "VK_KHR_swapchain");
+    }
     uint32_t familyCount = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(device, &familyCount, nullptr);
     std::vector<VkQueueFamilyProperties> families(familyCount);
     vkGetPhysicalDeviceQueueFamilyProperties(device, &familyCount, families.data());
     bool found = false;
+    VkQueueFlags flags = VK_QUEUE_COMPUTE_BIT;
+    if (requirements.graphics) flags |= VK_QUEUE_GRAPHICS_BIT;
     for (uint32_t f = 0; f < familyCount && !found; ++f) {
-        if (families[f].queueFlags & VK_QUEUE_COMPUTE_BIT) {
-            queueFamily = f;
-            found = true;
+        if ((families[f].queueFlags & flags) != flags) continue;
+        if (requirements.presentSurface) {
+            VkBool32 presents = VK_FALSE;
+            vkGetPhysicalDeviceSurfaceSupportKHR(device, f, requirements.presentSurface, &presents);
+            if (!presents) continue;
         }
+        queueFamily = f;
+        found = true;
     }
-    need(found, "a compute queue");
+    need(found,
+         requirements.presentSurface ? "a graphics queue that presents to the window"
+             : requirements.graphics ? "a graphics and compute queue"
+                                     : "a compute queue");
     return missing;
 }
 
@@ -168,7 +211,8 @@ std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance) {
     return devices;
 }
 
-std::vector<VulkanDeviceInfo> describe(const std::vector<VkPhysicalDevice>& devices) {
+std::vector<VulkanDeviceInfo> describe(const std::vector<VkPhysicalDevice>& devices,
+                                       const DeviceRequirements& requirements) {
     std::vector<VulkanDeviceInfo> infos;
     for (uint32_t k = 0; k < devices.size(); ++k) {
         VkPhysicalDeviceProperties properties;
@@ -179,7 +223,7 @@ std::vector<VulkanDeviceInfo> describe(const std::vector<VkPhysicalDevice>& devi
         info.type = properties.deviceType;
         info.apiVersion = properties.apiVersion;
         uint32_t family = 0;
-        info.unsupported = checkDevice(devices[k], family);
+        info.unsupported = checkDevice(devices[k], requirements, family);
         infos.push_back(std::move(info));
     }
     return infos;
@@ -227,7 +271,7 @@ std::string lowercase(std::string text) {
 
 // The chosen index into `infos`, or an error naming the selector.
 Expected<uint32_t> selectDevice(const std::vector<VulkanDeviceInfo>& infos,
-                                const std::string& selector) {
+                                const std::string& selector, const char* purpose) {
     const std::string found = concat(" (found: ", deviceList(infos), ")");
     if (selector.empty()) {
         int best = -1;
@@ -236,7 +280,7 @@ Expected<uint32_t> selectDevice(const std::vector<VulkanDeviceInfo>& infos,
             if (best < 0 || typeRank(info.type) < typeRank(infos[best].type))
                 best = int(info.index);
         }
-        if (best < 0) return Error{concat("no Vulkan device supports the compute backend", found)};
+        if (best < 0) return Error{concat("no Vulkan device supports ", purpose, found)};
         return uint32_t(best);
     }
     int chosen = -1;
@@ -285,41 +329,40 @@ const char* deviceTypeName(VkPhysicalDeviceType type) {
     }
 }
 
+Expected<VkInstance> createInstance(std::span<const char* const> extensions) {
+    return makeInstance(extensions);
+}
+
 Expected<std::vector<VulkanDeviceInfo>> listVulkanDevices() {
     auto instance = createInstance();
     if (!instance) return instance.error();
-    std::vector<VulkanDeviceInfo> infos = describe(physicalDevices(*instance));
+    std::vector<VulkanDeviceInfo> infos = describe(physicalDevices(*instance), {});
     vkDestroyInstance(*instance, nullptr);
-    if (infos.empty()) {
-        return Error{
-            "no Vulkan device found (no GPU driver, and no software driver such as Mesa "
-            "lavapipe: mesa-vulkan-drivers)"};
-    }
+    if (infos.empty()) return Error{kNoDevice};
     return infos;
 }
 
-Expected<VulkanContext> createContext(const std::string& selector) {
-    auto instance = createInstance();
-    if (!instance) return instance.error();
+Expected<VkPhysicalDevice> pickPhysicalDevice(VkInstance instance, const std::string& selector,
+                                              const DeviceRequirements& requirements) {
+    const std::vector<VkPhysicalDevice> devices = physicalDevices(instance);
+    const std::vector<VulkanDeviceInfo> infos = describe(devices, requirements);
+    if (infos.empty()) return Error{kNoDevice};
+    auto chosen = selectDevice(
+        infos, selector,
+        requirements.presentSurface ? "the viewer (graphics and present)" : "the compute backend");
+    if (!chosen) return chosen.error();
+    return devices[*chosen];
+}
+
+Expected<VulkanContext> createDevice(VkInstance instance, VkPhysicalDevice physicalDevice,
+                                     const DeviceRequirements& requirements) {
     VulkanContext context;
-    context.instance = *instance;
-    const std::vector<VkPhysicalDevice> devices = physicalDevices(context.instance);
-    const std::vector<VulkanDeviceInfo> infos = describe(devices);
-    if (infos.empty()) {
-        destroyContext(context);
-        return Error{
-            "no Vulkan device found (no GPU driver, and no software driver such as Mesa "
-            "lavapipe: mesa-vulkan-drivers)"};
-    }
-    auto chosen = selectDevice(infos, selector);
-    if (!chosen) {
-        destroyContext(context);
-        return chosen.error();
-    }
-    context.physicalDevice = devices[*chosen];
-    checkDevice(context.physicalDevice, context.queueFamily);
+    context.instance = instance;
+    context.physicalDevice = physicalDevice;
+    checkDevice(context.physicalDevice, requirements, context.queueFamily);
     vkGetPhysicalDeviceProperties(context.physicalDevice, &context.properties);
     vkGetPhysicalDeviceMemoryProperties(context.physicalDevice, &context.memory);
+    context.computeFeatures = hasComputeFeatures(context.physicalDevice);
 
     const float priority = 1.0f;
     VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -328,21 +371,27 @@ Expected<VulkanContext> createContext(const std::string& selector) {
     queueInfo.pQueuePriorities = &priority;
     VkPhysicalDeviceVulkan12Features features12{
         VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-    features12.bufferDeviceAddress = VK_TRUE;
-    features12.scalarBlockLayout = VK_TRUE;
+    features12.bufferDeviceAddress = context.computeFeatures;
+    features12.scalarBlockLayout = context.computeFeatures;
     VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     features.pNext = &features12;
-    features.features.shaderInt64 = VK_TRUE;
+    features.features.shaderInt64 = context.computeFeatures;
     VkDeviceCreateInfo deviceInfo{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
     deviceInfo.pNext = &features;
     deviceInfo.queueCreateInfoCount = 1;
     deviceInfo.pQueueCreateInfos = &queueInfo;
+    const char* swapchainExtension = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+    if (requirements.presentSurface) {
+        deviceInfo.enabledExtensionCount = 1;
+        deviceInfo.ppEnabledExtensionNames = &swapchainExtension;
+    }
     const VkResult result =
         vkCreateDevice(context.physicalDevice, &deviceInfo, nullptr, &context.device);
     if (result != VK_SUCCESS) {
+        const std::string name = context.properties.deviceName;
         destroyContext(context);
-        return Error{concat("cannot create a logical device on '", infos[*chosen].name, "' (",
-                            vkResultName(result), ")")};
+        return Error{
+            concat("cannot create a logical device on '", name, "' (", vkResultName(result), ")")};
     }
     vkGetDeviceQueue(context.device, context.queueFamily, 0, &context.queue);
     VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -350,6 +399,18 @@ Expected<VulkanContext> createContext(const std::string& selector) {
     poolInfo.queueFamilyIndex = context.queueFamily;
     VK_CHECK(vkCreateCommandPool(context.device, &poolInfo, nullptr, &context.commandPool));
     return context;
+}
+
+Expected<VulkanContext> createContext(const std::string& selector) {
+    auto instance = createInstance();
+    if (!instance) return instance.error();
+    const DeviceRequirements requirements;
+    auto physicalDevice = pickPhysicalDevice(*instance, selector, requirements);
+    if (!physicalDevice) {
+        vkDestroyInstance(*instance, nullptr);
+        return physicalDevice.error();
+    }
+    return createDevice(*instance, *physicalDevice, requirements);
 }
 
 void destroyContext(VulkanContext& context) {

@@ -1,12 +1,17 @@
 #pragma once
-// A headless Vulkan 1.2 compute context (STYLE.md rule 6): plain handles, created and destroyed
-// by free functions. The device is picked by --device (an index into the physical-device list or
-// part of its name) or else by type: discrete, then integrated, then any (e.g. Mesa lavapipe).
-// Required: Vulkan 1.2 with bufferDeviceAddress, scalarBlockLayout and shaderInt64, and a queue
-// with compute. Validation layers load when DAISY_VULKAN_VALIDATION=1 and they are installed.
+// A Vulkan 1.2 context (STYLE.md rule 6): plain handles, created and destroyed by free functions,
+// in three steps (niagara-style) so the headless compute backend and the viewer share the code:
+// createInstance (with the window system's extensions when a surface is wanted) ->
+// pickPhysicalDevice -> createDevice. The device is picked by --device (an index into the
+// physical-device list or part of its name) or else by type: discrete, then integrated, then any
+// (e.g. Mesa lavapipe). The compute backend requires Vulkan 1.2 with bufferDeviceAddress,
+// scalarBlockLayout and shaderInt64 and a compute queue; the viewer a graphics queue that presents
+// to its surface and VK_KHR_swapchain (the compute features are enabled whenever the device has
+// them). Validation layers load when DAISY_VULKAN_VALIDATION=1 and they are installed.
 #include <volk.h>
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -18,8 +23,9 @@ struct VulkanContext {
     VkInstance instance = VK_NULL_HANDLE;
     VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
     VkDevice device = VK_NULL_HANDLE;
-    VkQueue queue = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;  // compute, and graphics + present when the device was asked
     uint32_t queueFamily = 0;
+    bool computeFeatures = false;  // bufferDeviceAddress, scalarBlockLayout, shaderInt64 enabled
     VkCommandPool commandPool = VK_NULL_HANDLE;  // resettable command buffers, queueFamily
     VkPhysicalDeviceProperties properties{};  // limits: maxStorageBufferRange, ...
     VkPhysicalDeviceMemoryProperties memory{};
@@ -34,6 +40,13 @@ struct VulkanDeviceInfo {
     std::string unsupported;  // empty when usable; else what it lacks
 };
 
+// What a device must offer.
+struct DeviceRequirements {
+    bool compute = true;  // the compute backend's features and a compute queue
+    bool graphics = false;  // a queue with graphics and compute
+    VkSurfaceKHR presentSurface = VK_NULL_HANDLE;  // the queue presents to it; VK_KHR_swapchain
+};
+
 // "discrete", "integrated", "virtual", "cpu" or "other".
 const char* deviceTypeName(VkPhysicalDeviceType type);
 
@@ -41,8 +54,22 @@ const char* deviceTypeName(VkPhysicalDeviceType type);
 // or no device at all.
 Expected<std::vector<VulkanDeviceInfo>> listVulkanDevices();
 
-// Creates the context on the device `selector` names (see above; empty = by type). Errors name
-// the selector and list the devices found.
+// Loads the Vulkan loader (once) and creates a Vulkan 1.2 instance with `extensions` (e.g. the
+// surface extensions glfwGetRequiredInstanceExtensions names). Errors say what is missing.
+Expected<VkInstance> createInstance(std::span<const char* const> extensions = {});
+
+// The device `selector` names (see above; empty = by type) among those that meet
+// `requirements`. Errors name the selector and list the devices found with what each lacks.
+Expected<VkPhysicalDevice> pickPhysicalDevice(VkInstance instance, const std::string& selector,
+                                              const DeviceRequirements& requirements);
+
+// The logical device, its queue and command pool on `physicalDevice` (from pickPhysicalDevice
+// with the same requirements). The context takes ownership of `instance`: destroyContext
+// destroys both, also when this fails.
+Expected<VulkanContext> createDevice(VkInstance instance, VkPhysicalDevice physicalDevice,
+                                     const DeviceRequirements& requirements);
+
+// createInstance + pickPhysicalDevice + createDevice for the headless compute backend.
 Expected<VulkanContext> createContext(const std::string& selector);
 void destroyContext(VulkanContext& context);
 

@@ -104,11 +104,5 @@ TEST(Cli, BadSceneContentIsExitTwoNamingTheFile) {
     EXPECT_NE(run.output.find("broken.gltf"), std::string::npos) << run.output;
 }
 
-TEST(Cli, ViewerNotBuiltYetSaysSoAndExitsTwo) {
-    const RunResult run = runDaisy("view " + cornellBox());
-    EXPECT_EQ(run.status, 2) << run.output;
-    EXPECT_NE(run.output.find("not built yet"), std::string::npos) << run.output;
-}
-
 }  // namespace
 }  // namespace daisy

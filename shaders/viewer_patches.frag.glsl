@@ -1,0 +1,47 @@
+#version 450
+// The viewer's patches: XYZ radiance -> exposed linear RGB -> clip -> sRGB curve (the same steps
+// as daisy render's PNG, src/image/exposure.h), or a scalar on the false-colour ramp; optional
+// wireframe edges.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/viewer_types.h"
+
+layout(push_constant) uniform Push {
+    ViewerPush p;
+};
+
+layout(location = 0) in vec4 inValue;
+layout(location = 1) in vec3 inBarycentric;
+layout(location = 0) out vec4 outColour;
+
+// IEC 61966-2-1 transfer curve, and its inverse.
+float encodeSrgb(float c) {
+    return c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
+}
+float decodeSrgb(float c) {
+    return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+}
+
+void main() {
+    bool encode = (p.flags & DAISY_VIEWER_FLAG_ENCODE_SRGB) != 0u;
+    vec3 display;
+    if (p.mode == DAISY_VIEWER_MODE_FALSE) {
+        float value = log(max(inValue.w, 1e-30)) / log(10.0);
+        display = falseColour((value - p.falseLo) / (p.falseHi - p.falseLo));
+        if (!encode)
+            display = vec3(decodeSrgb(display.x), decodeSrgb(display.y), decodeSrgb(display.z));
+    } else {
+        vec3 xyz = inValue.xyz;
+        vec3 rgb = vec3(dot(vec3(p.colourRows[0], p.colourRows[1], p.colourRows[2]), xyz),
+                        dot(vec3(p.colourRows[4], p.colourRows[5], p.colourRows[6]), xyz),
+                        dot(vec3(p.colourRows[8], p.colourRows[9], p.colourRows[10]), xyz));
+        rgb = clamp(rgb, vec3(0.0), vec3(1.0));
+        display = encode ? vec3(encodeSrgb(rgb.x), encodeSrgb(rgb.y), encodeSrgb(rgb.z)) : rgb;
+    }
+    if ((p.flags & DAISY_VIEWER_FLAG_WIREFRAME) != 0u) {
+        vec3 width = fwidth(inBarycentric);
+        vec3 edge = smoothstep(vec3(0.0), 1.5 * width, inBarycentric);
+        float inside = min(edge.x, min(edge.y, edge.z));
+        display = mix(vec3(1.0, 0.55, 0.1), display, inside);
+    }
+    outColour = vec4(display, 1.0);
+}

@@ -1,0 +1,26 @@
+#version 450
+// The viewer's patches (src/viewer/patch_renderer.h): three vertices per patch, in patch order,
+// each with its corner's display value; the barycentric corner feeds the wireframe.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/viewer_types.h"
+
+layout(push_constant) uniform Push {
+    ViewerPush p;
+};
+
+layout(location = 0) in vec3 inPosition;
+layout(location = 1) in vec4 inValue;
+layout(location = 0) out vec4 outValue;
+layout(location = 1) out vec3 outBarycentric;
+
+void main() {
+    mat4 viewProj;
+    for (int c = 0; c < 4; ++c)
+        viewProj[c] = vec4(p.viewProj[4 * c], p.viewProj[4 * c + 1], p.viewProj[4 * c + 2],
+                           p.viewProj[4 * c + 3]);
+    gl_Position = viewProj * vec4(inPosition, 1.0);
+    outValue = inValue;
+    int corner = gl_VertexIndex % 3;
+    outBarycentric =
+        vec3(corner == 0 ? 1.0 : 0.0, corner == 1 ? 1.0 : 0.0, corner == 2 ? 1.0 : 0.0);
+}

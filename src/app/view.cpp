@@ -1,0 +1,76 @@
+// `daisy view SCENE` (issue 15, docs/viewer.md): the session (automatic patch size, F from the
+// cache or a backend, the solve), then the viewer (src/viewer/). Options that depend on the scene
+// (--camera, --edit) fail before the view factors.
+#include "app/commands.h"
+#include "app/session_options.h"
+#include "core/interrupt.h"
+#include "core/log.h"
+#include "core/strings.h"
+#include "image/camera.h"
+#include "image/exposure.h"
+
+#if DAISY_HAVE_VIEWER
+#include "viewer/material_edit.h"
+#include "viewer/viewer.h"
+#endif
+
+namespace daisy::app {
+
+int runView(const CommonOptions& options, const ViewOptions& view) {
+#if DAISY_HAVE_VIEWER
+    auto exposure = parseExposure(view.exposure);
+    if (!exposure) {
+        logError(concat("--exposure: ", exposure.error().message));
+        return 2;
+    }
+    std::vector<viewer::MaterialEdit> edits;
+    for (const std::string& text : view.edits) {
+        auto edit = viewer::parseMaterialEdit(text);
+        if (!edit) {
+            logError(edit.error().message);
+            return 2;
+        }
+        edits.push_back(std::move(*edit));
+    }
+    const auto checkScene = [&](const Scene& scene) -> Expected<void> {
+        auto camera = chooseCamera(scene, view.camera, double(view.width) / double(view.height));
+        if (!camera) return camera.error();
+        for (const viewer::MaterialEdit& edit : edits) {
+            auto targets = viewer::editTargets(scene, edit);
+            if (!targets) return targets.error();
+        }
+        return {};
+    };
+    auto session = openSession(options, PatchSizeDefault::Automatic, checkScene);
+    if (!session) return 2;
+    auto formFactors = session->buildFormFactors(&interruptToken());
+    if (!formFactors) {
+        logError(formFactors.error().message);
+        return 2;
+    }
+    auto solved = session->solve(interruptibleSolve());
+    if (!solved) {
+        logError(solved.error().message);
+        return 2;
+    }
+    viewer::ViewerOptions settings;
+    settings.device = options.device;
+    settings.camera = view.camera;
+    settings.width = view.width;
+    settings.height = view.height;
+    settings.exposure = *exposure;
+    settings.frames = view.frames;
+    settings.screenshotPath = view.screenshotPath;
+    settings.edits = view.edits;
+    settings.exerciseWindow = view.exerciseWindow;
+    settings.panel = view.panel;
+    settings.wavelengthsText = options.wavelengths;
+    return viewer::runViewer(std::move(*session), settings);
+#else
+    (void)options;
+    (void)view;
+    return notBuiltYet("view", "the viewer (this build has DAISY_BUILD_VIEWER=OFF)");
+#endif
+}
+
+}  // namespace daisy::app

@@ -1,0 +1,75 @@
+#include "viewer/material_edit.h"
+
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
+
+#include "core/strings.h"
+#include "scene/bounded_json.h"
+#include "scene/material_extension.h"
+
+namespace daisy::viewer {
+namespace {
+
+std::string trim(const std::string& text) {
+    const std::size_t first = text.find_first_not_of(" \t");
+    if (first == std::string::npos) return "";
+    return text.substr(first, text.find_last_not_of(" \t") - first + 1);
+}
+
+// `rgb(r, g, b)` as the JSON {"rgb": [r, g, b]}; the text unchanged when it is not of that form.
+std::string expandRgb(const std::string& value) {
+    if (value.rfind("rgb(", 0) != 0 || value.back() != ')') return value;
+    return concat("{\"rgb\": [", value.substr(4, value.size() - 5), "]}");
+}
+
+}  // namespace
+
+Expected<MaterialEdit> parseMaterialEdit(const std::string& text) {
+    const std::string usage = concat("--edit '", text,
+                                     "': expected NAME.FIELD=VALUE with FIELD reflectance, "
+                                     "emission or fluorescence");
+    const std::size_t equals = text.find('=');
+    if (equals == std::string::npos) return Error{usage};
+    const std::string left = trim(text.substr(0, equals));
+    const std::string value = trim(text.substr(equals + 1));
+    const std::size_t dot = left.rfind('.');
+    if (dot == std::string::npos || dot == 0 || value.empty()) return Error{usage};
+    MaterialEdit edit;
+    edit.text = text;
+    edit.materialName = left.substr(0, dot);
+    const std::string field = left.substr(dot + 1);
+    if (field != "reflectance" && field != "emission" && field != "fluorescence") {
+        return Error{concat(usage, " (got '", field, "')")};
+    }
+    auto member = parseBoundedJson(expandRgb(value));
+    if (!member) return Error{concat("--edit '", text, "': ", member.error().message)};
+    nlohmann::json object = nlohmann::json::object();
+    object[field] = *member;
+    auto extension = parseMaterialExtension(object, concat("--edit ", edit.materialName));
+    if (!extension) return Error{concat("--edit '", text, "': ", extension.error().message)};
+    edit.extension = std::move(*extension);
+    return edit;
+}
+
+Expected<std::vector<std::size_t>> editTargets(const Scene& scene, const MaterialEdit& edit) {
+    std::vector<std::size_t> targets;
+    std::string names;
+    for (std::size_t k = 0; k < scene.materials.size(); ++k) {
+        if (scene.materials[k].name == edit.materialName) targets.push_back(k);
+        if (names.find(concat("'", scene.materials[k].name, "'")) == std::string::npos)
+            names += concat(names.empty() ? "" : ", ", "'", scene.materials[k].name, "'");
+    }
+    if (targets.empty()) {
+        return Error{concat("--edit '", edit.text, "': ", scene.path, " has no material '",
+                            edit.materialName, "' (it has ", names.empty() ? "none" : names, ")")};
+    }
+    return targets;
+}
+
+Material applyEdit(Material material, const MaterialEdit& edit) {
+    mergeExtension(material.spectral, edit.extension);
+    return material;
+}
+
+}  // namespace daisy::viewer

@@ -1,0 +1,167 @@
+#include "viewer/patch_pipeline.h"
+
+#include <cstring>
+
+#include "core/check.h"
+#include "vulkan/pipelines.h"
+#include "vulkan/vk_check.h"
+
+namespace daisy::viewer {
+namespace {
+
+VkShaderModule shaderModule(const VulkanContext& context, const char* name) {
+    const std::span<const uint32_t> spirv = embeddedSpirv(name);
+    DAISY_CHECK(!spirv.empty());
+    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    info.codeSize = spirv.size_bytes();
+    info.pCode = spirv.data();
+    VkShaderModule module = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateShaderModule(context.device, &info, nullptr, &module));
+    return module;
+}
+
+}  // namespace
+
+PatchPipeline createPatchPipeline(const VulkanContext& context, VkRenderPass renderPass) {
+    PatchPipeline result;
+    const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                                    sizeof(shared::ViewerPush)};
+    VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    layoutInfo.pushConstantRangeCount = 1;
+    layoutInfo.pPushConstantRanges = &range;
+    VK_CHECK(vkCreatePipelineLayout(context.device, &layoutInfo, nullptr, &result.layout));
+
+    VkShaderModule vertex = shaderModule(context, "viewer_patches.vert");
+    VkShaderModule fragment = shaderModule(context, "viewer_patches.frag");
+    VkPipelineShaderStageCreateInfo stages[2]{};
+    stages[0].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+    stages[0].module = vertex;
+    stages[0].pName = "main";
+    stages[1].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+    stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+    stages[1].module = fragment;
+    stages[1].pName = "main";
+
+    const VkVertexInputBindingDescription bindings[2] = {
+        {0, 3 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX},
+        {1, 4 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX}};
+    const VkVertexInputAttributeDescription attributes[2] = {
+        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 0}};
+    VkPipelineVertexInputStateCreateInfo vertexInput{
+        VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    vertexInput.vertexBindingDescriptionCount = 2;
+    vertexInput.pVertexBindingDescriptions = bindings;
+    vertexInput.vertexAttributeDescriptionCount = 2;
+    vertexInput.pVertexAttributeDescriptions = attributes;
+    VkPipelineInputAssemblyStateCreateInfo assembly{
+        VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    VkPipelineViewportStateCreateInfo viewport{
+        VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    viewport.viewportCount = 1;
+    viewport.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo raster{
+        VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE;
+    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    raster.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo multisample{
+        VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo depth{
+        VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    depth.depthTestEnable = VK_TRUE;
+    depth.depthWriteEnable = VK_TRUE;
+    depth.depthCompareOp = VK_COMPARE_OP_GREATER;  // reverse-Z (view_camera.h)
+    VkPipelineColorBlendAttachmentState blendAttachment{};
+    blendAttachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+        VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo blend{
+        VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 1;
+    blend.pAttachments = &blendAttachment;
+    const VkDynamicState dynamicStates[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dynamic.dynamicStateCount = 2;
+    dynamic.pDynamicStates = dynamicStates;
+
+    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+    info.stageCount = 2;
+    info.pStages = stages;
+    info.pVertexInputState = &vertexInput;
+    info.pInputAssemblyState = &assembly;
+    info.pViewportState = &viewport;
+    info.pRasterizationState = &raster;
+    info.pMultisampleState = &multisample;
+    info.pDepthStencilState = &depth;
+    info.pColorBlendState = &blend;
+    info.pDynamicState = &dynamic;
+    info.layout = result.layout;
+    info.renderPass = renderPass;
+    info.subpass = 0;
+    VK_CHECK(vkCreateGraphicsPipelines(context.device, VK_NULL_HANDLE, 1, &info, nullptr,
+                                       &result.pipeline));
+    vkDestroyShaderModule(context.device, vertex, nullptr);
+    vkDestroyShaderModule(context.device, fragment, nullptr);
+    return result;
+}
+
+void destroyPatchPipeline(const VulkanContext& context, PatchPipeline& pipeline) {
+    if (pipeline.pipeline) vkDestroyPipeline(context.device, pipeline.pipeline, nullptr);
+    if (pipeline.layout) vkDestroyPipelineLayout(context.device, pipeline.layout, nullptr);
+    pipeline = PatchPipeline{};
+}
+
+PatchBuffers createPatchBuffers(const VulkanContext& context, const PatchMesh& mesh,
+                                int framesInFlight) {
+    PatchBuffers buffers;
+    buffers.vertexCount = uint32_t(3 * mesh.patchCount());
+    const VkDeviceSize vertices = std::max<VkDeviceSize>(buffers.vertexCount, 3);
+    buffers.positions =
+        createHostBuffer(context, vertices * 3 * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+    float* out = static_cast<float*>(buffers.positions.mapped);
+    for (std::size_t p = 0; p < mesh.patchCount(); ++p) {
+        for (int corner = 0; corner < 3; ++corner) {
+            const Vec3d& v = mesh.positions[mesh.patches[p][std::size_t(corner)]];
+            for (int axis = 0; axis < 3; ++axis)
+                *out++ = static_cast<float>(v[axis]);
+        }
+    }
+    for (int f = 0; f < framesInFlight; ++f) {
+        buffers.values.push_back(createHostBuffer(context, vertices * 4 * sizeof(float),
+                                                  VK_BUFFER_USAGE_VERTEX_BUFFER_BIT));
+        std::memset(buffers.values.back().mapped, 0, vertices * 4 * sizeof(float));
+        buffers.valueVersions.push_back(0);
+    }
+    return buffers;
+}
+
+void destroyPatchBuffers(const VulkanContext& context, PatchBuffers& buffers) {
+    destroyHostBuffer(context, buffers.positions);
+    for (HostBuffer& values : buffers.values)
+        destroyHostBuffer(context, values);
+    buffers = PatchBuffers{};
+}
+
+void recordPatches(VkCommandBuffer commandBuffer, const PatchPipeline& pipeline,
+                   const PatchBuffers& buffers, int frame, const shared::ViewerPush& push,
+                   VkExtent2D extent) {
+    if (buffers.vertexCount == 0) return;
+    vkCmdBindPipeline(commandBuffer, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.pipeline);
+    const VkViewport viewport{0, 0, float(extent.width), float(extent.height), 0, 1};
+    const VkRect2D scissor{{0, 0}, extent};
+    vkCmdSetViewport(commandBuffer, 0, 1, &viewport);
+    vkCmdSetScissor(commandBuffer, 0, 1, &scissor);
+    vkCmdPushConstants(commandBuffer, pipeline.layout,
+                       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(push),
+                       &push);
+    const VkBuffer vertexBuffers[2] = {buffers.positions.buffer,
+                                       buffers.values[std::size_t(frame)].buffer};
+    const VkDeviceSize offsets[2] = {0, 0};
+    vkCmdBindVertexBuffers(commandBuffer, 0, 2, vertexBuffers, offsets);
+    vkCmdDraw(commandBuffer, buffers.vertexCount, 1, 0, 0);
+}
+
+}  // namespace daisy::viewer

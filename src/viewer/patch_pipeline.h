@@ -1,0 +1,44 @@
+#pragma once
+// The raster pipeline of the patches (issue 15 item 2): three vertices per patch in patch order
+// (no index buffer: corners of neighbouring patches carry different values across creases and
+// material boundaries), positions in one buffer, display values in one buffer per frame in
+// flight, depth tested (reverse-Z), no culling (the radiosity solution is two-sided only where
+// the scene is, and a back face seen from inside an open box must still hide what is behind it).
+// Shaders: shaders/viewer_patches.{vert,frag}.glsl; push constants: shared/viewer_types.h.
+#include <volk.h>
+
+#include <vector>
+
+#include "geometry/patch_mesh.h"
+#include "shared/viewer_types.h"
+#include "viewer/gpu_resources.h"
+#include "vulkan/context.h"
+
+namespace daisy::viewer {
+
+struct PatchPipeline {
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+};
+
+PatchPipeline createPatchPipeline(const VulkanContext& context, VkRenderPass renderPass);
+void destroyPatchPipeline(const VulkanContext& context, PatchPipeline& pipeline);
+
+struct PatchBuffers {
+    HostBuffer positions;  // vertexCount x 3 floats, scene units
+    std::vector<HostBuffer> values;  // per frame in flight: vertexCount x 4 floats
+    std::vector<uint64_t> valueVersions;  // what each values buffer holds (0 = nothing)
+    uint32_t vertexCount = 0;  // 3 x patches
+};
+
+PatchBuffers createPatchBuffers(const VulkanContext& context, const PatchMesh& mesh,
+                                int framesInFlight);
+void destroyPatchBuffers(const VulkanContext& context, PatchBuffers& buffers);
+
+// Draws the patches with `values` buffer `frame` into the render pass begun on `commandBuffer`
+// (viewport and scissor set to `extent`).
+void recordPatches(VkCommandBuffer commandBuffer, const PatchPipeline& pipeline,
+                   const PatchBuffers& buffers, int frame, const shared::ViewerPush& push,
+                   VkExtent2D extent);
+
+}  // namespace daisy::viewer

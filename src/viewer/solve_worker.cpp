@@ -1,0 +1,210 @@
+#include "viewer/solve_worker.h"
+
+#include <chrono>
+#include <cmath>
+#include <utility>
+#include <variant>
+
+#include "core/strings.h"
+
+namespace daisy::viewer {
+namespace {
+
+double steadySeconds() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+
+// ||a - b|| / ||a||, 0 when a is 0.
+double relativeChange(std::span<const double> a, const std::vector<double>& b) {
+    if (a.size() != b.size()) return 1;
+    double difference = 0, norm = 0;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        difference += (a[k] - b[k]) * (a[k] - b[k]);
+        norm += a[k] * a[k];
+    }
+    return norm > 0 ? std::sqrt(difference / norm) : 0;
+}
+
+}  // namespace
+
+struct SolveWorker::Command {
+    enum class Kind { SetMaterial, Converge, Bounce, Reset, Wavelengths } kind;
+    std::size_t index = 0;
+    Material material;
+    WavelengthSpec spec;
+    std::string text;
+};
+
+SolveWorker::SolveWorker(Session session)
+    : session_(std::move(session)),
+      patches_(session_.patches()),
+      formFactors_(&session_.formFactors()),
+      initialScene_(session_.scene()) {
+    publish("", false);
+    thread_ = std::thread([this] { run(); });
+}
+
+SolveWorker::~SolveWorker() {
+    {
+        std::lock_guard lock(mutex_);
+        stop_ = true;
+        cancel_.cancel();
+    }
+    wake_.notify_all();
+    thread_.join();
+}
+
+void SolveWorker::post(Command command) {
+    {
+        std::lock_guard lock(mutex_);
+        if (command.kind == Command::Kind::SetMaterial) editPostedAt_ = steadySeconds();
+        queue_.push_back(std::move(command));
+        cancel_.cancel();
+    }
+    wake_.notify_all();
+}
+
+void SolveWorker::setMaterial(std::size_t index, Material material) {
+    Command command{Command::Kind::SetMaterial};
+    command.index = index;
+    command.material = std::move(material);
+    post(std::move(command));
+}
+void SolveWorker::converge() {
+    post(Command{Command::Kind::Converge});
+}
+void SolveWorker::stepBounce() {
+    post(Command{Command::Kind::Bounce});
+}
+void SolveWorker::resetToEmission() {
+    post(Command{Command::Kind::Reset});
+}
+void SolveWorker::setWavelengths(WavelengthSpec spec, std::string text) {
+    Command command{Command::Kind::Wavelengths};
+    command.spec = std::move(spec);
+    command.text = std::move(text);
+    post(std::move(command));
+}
+
+std::shared_ptr<const DisplaySnapshot> SolveWorker::latest() const {
+    std::lock_guard lock(mutex_);
+    return latest_;
+}
+
+bool SolveWorker::idle() const {
+    std::lock_guard lock(mutex_);
+    return queue_.empty() && !busy_;
+}
+
+void SolveWorker::publish(const std::string& message, bool solving) {
+    auto snapshot = std::make_shared<DisplaySnapshot>();
+    const WavelengthSet& set = session_.wavelengths();
+    snapshot->wavelengthCount = set.size();
+    for (std::size_t k = 0; k < set.size(); ++k)
+        snapshot->wavelengthsNm.push_back(set.wavelengthNm(k));
+    snapshot->corners = session_.cornerChannels(true);
+    snapshot->patchValues = session_.patchChannels(true);
+    snapshot->materials = session_.scene().materials;
+    snapshot->iteration = iteration_;
+    snapshot->change = change_;
+    snapshot->solving = solving;
+    if (!message.empty()) message_ = message;
+    snapshot->message = message_;
+    if (session_.hasSolution() && !solving) {
+        const SolverResult& result = session_.solution();
+        snapshot->gathered = result.gathered;
+        snapshot->residual = result.gathered.empty() ? -1 : result.residual;
+        snapshot->converged = result.converged;
+    }
+    std::lock_guard lock(mutex_);
+    snapshot->secondsSinceEdit = editPostedAt_ < 0 ? -1 : steadySeconds() - editPostedAt_;
+    snapshot->version = ++version_;
+    latest_ = std::move(snapshot);
+}
+
+void SolveWorker::solve(bool bounce) {
+    SolveRequest request;
+    request.warmStart = true;
+    request.cancel = &cancel_;
+    if (bounce) {
+        request.kind = SolverKind::Jacobi;
+        request.maxIterations = 1;
+    }
+    std::vector<double> previous;
+    if (session_.hasSolution()) previous = session_.solution().radiosity;
+    double lastPublish = -1;
+    iteration_ = 0;
+    request.onIteration = [&](int iteration, std::span<const double> radiosity) {
+        iteration_ = iteration;
+        const double now = steadySeconds();
+        if (iteration > 1 && now - lastPublish < kPublishSeconds) return;
+        change_ = relativeChange(radiosity, previous);
+        previous.assign(radiosity.begin(), radiosity.end());
+        // The iterate as the displayed solution; solve() replaces it with the result at its end.
+        session_.setSolution(previous);
+        publish("", true);
+        lastPublish = steadySeconds();
+    };
+    auto solved = session_.solve(request);
+    if (!solved) {
+        publish(concat("solve failed: ", solved.error().message), false);
+        return;
+    }
+    iteration_ = solved->iterations;
+    publish("", false);
+}
+
+void SolveWorker::run() {
+    for (;;) {
+        Command command;
+        {
+            std::unique_lock lock(mutex_);
+            wake_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+            if (stop_) return;
+            command = std::move(queue_.front());
+            queue_.pop_front();
+            // A command still queued behind this one keeps the token cancelled: its solve
+            // returns at once and the newer command runs.
+            if (queue_.empty()) cancel_.reset();
+            busy_ = true;
+        }
+        switch (command.kind) {
+            case Command::Kind::SetMaterial: {
+                auto set = session_.setMaterial(command.index, std::move(command.material));
+                if (!set) {
+                    publish(concat("edit refused: ", set.error().message), false);
+                    break;
+                }
+                message_.clear();
+                solve(false);
+                break;
+            }
+            case Command::Kind::Converge:
+                solve(false);
+                break;
+            case Command::Kind::Bounce:
+                solve(true);
+                break;
+            case Command::Kind::Reset:
+                session_.resetToEmission();
+                iteration_ = 0;
+                change_ = 0;
+                publish("", false);
+                break;
+            case Command::Kind::Wavelengths: {
+                auto set = session_.setWavelengths(command.spec, command.text);
+                if (!set) {
+                    publish(concat("wavelengths refused: ", set.error().message), false);
+                    break;
+                }
+                solve(false);
+                break;
+            }
+        }
+        std::lock_guard lock(mutex_);
+        busy_ = false;
+    }
+}
+
+}  // namespace daisy::viewer

@@ -1,0 +1,98 @@
+#pragma once
+// The viewer's background solver (issue 15 item 4): owns the session after F is built and runs
+// every edit and solve on its own thread, so the window keeps drawing. A new command cancels the
+// solve running (core/cancel.h); material edits re-solve warm from the last B with the cached F,
+// which is never rebuilt (Session::setMaterial). While a solve runs, the iterate is published
+// every kPublishSeconds (and after the first iteration), so the picture updates as it converges.
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/cancel.h"
+#include "pipeline/session.h"
+
+namespace daisy::viewer {
+
+// What the window shows of the session's state; immutable once published.
+struct DisplaySnapshot {
+    uint64_t version = 0;  // increases with every snapshot
+    std::size_t wavelengthCount = 0;  // m
+    std::vector<double> wavelengthsNm;
+    std::vector<float> corners;  // Session::cornerChannels(true): patches x 3 x (m + 4)
+    std::vector<float> patchValues;  // Session::patchChannels(true): patches x (m + 4)
+    std::vector<double> gathered;  // G = F B of the last finished solve (patches x m); or empty
+    std::vector<Material> materials;  // the session's, edits applied
+    int iteration = 0;  // of the solve running or last run
+    double change = 0;  // ||B^k - B^(k-1)|| / ||B^k|| of the last published iterate
+    double residual = -1;  // true relative residual of the last finished solve; -1 while solving
+    bool converged = false;
+    bool solving = false;
+    std::string message;  // the last refusal or error, one line; empty when none
+    // Seconds from the last material edit's post to this snapshot (-1 when no edit yet).
+    double secondsSinceEdit = -1;
+};
+
+class SolveWorker {
+public:
+    static constexpr double kPublishSeconds = 0.05;
+
+    // Takes the session (F built, solved or not) and publishes its state.
+    explicit SolveWorker(Session session);
+    ~SolveWorker();  // cancels the solve running and joins the thread
+    SolveWorker(const SolveWorker&) = delete;
+    SolveWorker& operator=(const SolveWorker&) = delete;
+
+    // Replaces material `index`, then solves to convergence. A refused edit (the session's reason)
+    // leaves the material as it was and sets the snapshot's message.
+    void setMaterial(std::size_t index, Material material);
+    // Solves to convergence (the settings' solver), warm.
+    void converge();
+    // One Jacobi iteration from the current B: one more light bounce (the seed's figure 3).
+    void stepBounce();
+    // B = E.
+    void resetToEmission();
+    // A new wavelength set (the solution is dropped), then a solve.
+    void setWavelengths(WavelengthSpec spec, std::string text);
+
+    // The newest snapshot (never null).
+    std::shared_ptr<const DisplaySnapshot> latest() const;
+    // True when no command is queued or running.
+    bool idle() const;
+
+    // Immutable after construction, safe to read from any thread.
+    const PatchMesh& patches() const { return patches_; }
+    const SparseMatrix& formFactors() const { return *formFactors_; }
+    const Scene& initialScene() const { return initialScene_; }
+
+private:
+    struct Command;
+    void post(Command command);
+    void run();
+    void publish(const std::string& message, bool solving);
+    void solve(bool bounce);
+
+    Session session_;
+    const PatchMesh& patches_;
+    const SparseMatrix* formFactors_;
+    Scene initialScene_;
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    std::deque<Command> queue_;
+    bool busy_ = false;
+    bool stop_ = false;
+    CancelToken cancel_;
+    std::shared_ptr<const DisplaySnapshot> latest_;
+    uint64_t version_ = 0;
+    int iteration_ = 0;
+    double change_ = 0;
+    std::string message_;
+    double editPostedAt_ = -1;  // steady-clock seconds of the last edit's post
+    std::thread thread_;
+};
+
+}  // namespace daisy::viewer

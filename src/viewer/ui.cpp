@@ -1,0 +1,316 @@
+#include "viewer/ui.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/strings.h"
+#include "shared/viewer_types.h"
+#include "spectral/wavelength_spec.h"
+
+namespace daisy::viewer {
+namespace {
+
+constexpr float kControlPointsNm[8] = {350, 400, 450, 500, 550, 600, 650, 700};
+const char* const kIlluminants[] = {"D65", "D50", "A", "F2", "F11", "blacklight"};
+const char* const kFluorophores[] = {"brightener", "fluorescein", "rhodamine6g", "neon"};
+const char* const kWavelengthPresets[] = {"auto", "visible", "daisyriot", "meyer4", "fine"};
+
+// The material `draft` describes, over the scene's material `base`.
+Material buildMaterial(const Material& base, const MaterialDraft& draft) {
+    Material material = base;
+    if (draft.spectralReflectance) {
+        TabulatedSpectrum points;
+        for (int k = 0; k < 8; ++k) {
+            points.wavelengthsNm.push_back(kControlPointsNm[k]);
+            points.values.push_back(draft.reflectancePoints[std::size_t(k)]);
+        }
+        material.spectral.reflectance = SpectrumSpec{points, 1.0};
+    } else {
+        RgbSpectrum rgb;
+        for (int c = 0; c < 3; ++c)
+            rgb.rgb[std::size_t(c)] = draft.reflectanceRgb[std::size_t(c)];
+        material.spectral.reflectance = SpectrumSpec{rgb, 1.0};
+    }
+    switch (draft.emissionKind) {
+        case 1:
+            material.spectral.emission = SpectrumSpec{RgbSpectrum{}, 0.0};
+            material.emissiveRgb = {0, 0, 0};
+            break;
+        case 2:
+            material.spectral.emission = SpectrumSpec{
+                PresetSpectrum{kIlluminants[draft.emissionPreset]}, draft.emissionScale};
+            break;
+        case 3:
+            material.spectral.emission =
+                SpectrumSpec{BlackbodySpectrum{draft.blackbodyK}, draft.emissionScale};
+            break;
+        default:
+            break;
+    }
+    switch (draft.fluorescenceKind) {
+        case 1:
+            material.spectral.fluorescence.reset();
+            break;
+        case 2:
+            material.spectral.fluorescence =
+                FluorophorePreset{kFluorophores[draft.fluorescencePreset]};
+            break;
+        case 3: {
+            FluorescenceParams params;
+            params.absorption =
+                SpectrumSpec{GaussianSpectrum{draft.absorptionPeakNm, draft.absorptionFwhmNm},
+                             draft.absorptionScale};
+            params.emission =
+                SpectrumSpec{GaussianSpectrum{draft.emissionPeakNm, draft.emissionFwhmNm}, 1.0};
+            params.quantumYield = draft.quantumYield;
+            material.spectral.fluorescence = params;
+            break;
+        }
+        default:
+            break;
+    }
+    return material;
+}
+
+void statistics(const UiState& state, const DisplaySnapshot& snapshot, const SolveWorker& worker,
+                const Scene& scene) {
+    ImGui::Text("%s", scene.path.c_str());
+    ImGui::Text("%zu patches from %zu triangles, %zu materials", worker.patches().patchCount(),
+                scene.mesh.triangleCount(), scene.materials.size());
+    ImGui::Text("%zu wavelengths (%.0f..%.0f nm), F: %s entries", snapshot.wavelengthCount,
+                snapshot.wavelengthsNm.empty() ? 0.0 : snapshot.wavelengthsNm.front(),
+                snapshot.wavelengthsNm.empty() ? 0.0 : snapshot.wavelengthsNm.back(),
+                formatCount(worker.formFactors().nonzeroCount()).c_str());
+    ImGui::Text("frame %.2f ms, exposure %.2f EV", state.frameSeconds * 1e3, state.appliedEv);
+}
+
+void falseColourBar(const UiState& state, const DisplaySnapshot& snapshot) {
+    const bool wavelength = state.display.quantity == DisplayQuantity::Wavelength;
+    const double nm = wavelength && !snapshot.wavelengthsNm.empty()
+        ? snapshot.wavelengthsNm[std::min(state.display.wavelengthIndex,
+                                          snapshot.wavelengthsNm.size() - 1)]
+        : 0;
+    ImGui::Text(wavelength ? "L at %.1f nm (W m^-2 sr^-1 nm^-1), log scale"
+                           : "luminance Y (normalised radiance), log scale",
+                nm);
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const float width = ImGui::GetContentRegionAvail().x, height = 14;
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    const int steps = 48;
+    for (int k = 0; k < steps; ++k) {
+        const shared::vec3 c = shared::falseColour((float(k) + 0.5f) / float(steps));
+        draw->AddRectFilled(ImVec2(origin.x + width * float(k) / steps, origin.y),
+                            ImVec2(origin.x + width * float(k + 1) / steps, origin.y + height),
+                            ImGui::ColorConvertFloat4ToU32(ImVec4(c.x, c.y, c.z, 1)));
+    }
+    ImGui::Dummy(ImVec2(width, height));
+    ImGui::Text("%.3g", std::pow(10.0, state.range.lo));
+    ImGui::SameLine(std::max(width - 60, 80.0f));
+    ImGui::Text("%.3g", std::pow(10.0, state.range.hi));
+}
+
+void viewControls(UiState& state, const DisplaySnapshot& snapshot, const Scene& scene) {
+    int quantity = int(state.display.quantity);
+    ImGui::RadioButton("colour", &quantity, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("luminance", &quantity, 1);
+    ImGui::SameLine();
+    ImGui::RadioButton("wavelength", &quantity, 2);
+    state.display.quantity = DisplayQuantity(quantity);
+    bool flat = !state.display.smooth;
+    ImGui::Checkbox("flat", &flat);
+    state.display.smooth = !flat;
+    ImGui::SameLine();
+    ImGui::Checkbox("wireframe", &state.wireframe);
+    if (state.display.quantity == DisplayQuantity::Wavelength && snapshot.wavelengthCount > 0) {
+        int index = int(std::min(state.display.wavelengthIndex, snapshot.wavelengthCount - 1));
+        const std::string label =
+            concat(formatNumber(snapshot.wavelengthsNm[std::size_t(index)], 4), " nm");
+        ImGui::SliderInt("sample", &index, 0, int(snapshot.wavelengthCount) - 1, label.c_str());
+        state.display.wavelengthIndex = std::size_t(index);
+    }
+    if (state.display.quantity != DisplayQuantity::Colour) {
+        ImGui::Checkbox("automatic range", &state.display.autoRange);
+        if (!state.display.autoRange) {
+            float lo = float(state.display.falseLo), hi = float(state.display.falseHi);
+            ImGui::DragFloatRange2("log10 range", &lo, &hi, 0.05f, -12, 6);
+            state.display.falseLo = lo;
+            state.display.falseHi = std::max(hi, lo + 0.01f);
+        }
+        falseColourBar(state, snapshot);
+    } else {
+        ImGui::Checkbox("auto exposure", &state.autoExposure);
+        if (!state.autoExposure) ImGui::SliderFloat("EV", &state.ev, -12, 12, "%.2f");
+    }
+    ImGui::Checkbox("fly (WASD QE, drag to look)", &state.fly);
+    if (ImGui::Button("reset view (R)")) state.cameraRequest = -2;
+    for (std::size_t k = 0; k < scene.cameras.size(); ++k) {
+        ImGui::SameLine();
+        const std::string name =
+            scene.cameras[k].name.empty() ? concat("camera ", k) : scene.cameras[k].name;
+        if (ImGui::Button(name.c_str())) state.cameraRequest = int(k);
+    }
+    if (ImGui::Button("screenshot (F12)")) state.screenshotRequest = true;
+}
+
+void solverControls(UiState& state, const DisplaySnapshot& snapshot, SolveWorker& worker) {
+    if (ImGui::Button("one bounce")) worker.stepBounce();
+    ImGui::SameLine();
+    if (ImGui::Button("to convergence")) worker.converge();
+    ImGui::SameLine();
+    if (ImGui::Button("reset to emission")) worker.resetToEmission();
+    ImGui::Text("%s: iteration %d, change %.3g", snapshot.solving ? "solving" : "idle",
+                snapshot.iteration, snapshot.change);
+    if (snapshot.residual >= 0) {
+        ImGui::Text("residual %.3g%s", snapshot.residual, snapshot.converged ? " (converged)" : "");
+    }
+    char text[128];
+    std::snprintf(text, sizeof text, "%s", state.wavelengthsText.c_str());
+    if (ImGui::BeginCombo("preset", nullptr, ImGuiComboFlags_NoPreview)) {
+        for (const char* preset : kWavelengthPresets) {
+            if (ImGui::Selectable(preset)) std::snprintf(text, sizeof text, "%s", preset);
+        }
+        ImGui::EndCombo();
+    }
+    ImGui::SameLine();
+    ImGui::InputText("wavelengths", text, sizeof text);
+    state.wavelengthsText = text;
+    if (ImGui::Button("apply wavelengths")) {
+        auto spec = parseWavelengthSpec(state.wavelengthsText);
+        if (spec) {
+            worker.setWavelengths(*spec, state.wavelengthsText);
+        } else {
+            state.wavelengthsText += "  <- " + spec.error().message;
+        }
+    }
+}
+
+// The editor of one material; true when a control changed.
+bool materialEditor(MaterialDraft& draft) {
+    bool changed = false;
+    changed |= ImGui::Checkbox("spectral reflectance", &draft.spectralReflectance);
+    if (draft.spectralReflectance) {
+        for (int k = 0; k < 8; ++k) {
+            if (k > 0) ImGui::SameLine();
+            ImGui::PushID(k);
+            changed |= ImGui::VSliderFloat("##rho", ImVec2(22, 90),
+                                           &draft.reflectancePoints[std::size_t(k)], 0, 1, "");
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("%.0f nm: %.3f", kControlPointsNm[k],
+                                  draft.reflectancePoints[std::size_t(k)]);
+            ImGui::PopID();
+        }
+        ImGui::PlotLines("rho(350..700 nm)", draft.reflectancePoints.data(), 8, 0, nullptr, 0, 1,
+                         ImVec2(0, 40));
+    } else {
+        changed |= ImGui::ColorEdit3("reflectance", draft.reflectanceRgb.data());
+    }
+    const char* emissionKinds[] = {"as loaded", "none", "preset", "blackbody"};
+    changed |= ImGui::Combo("emission", &draft.emissionKind, emissionKinds, 4);
+    if (draft.emissionKind == 2)
+        changed |= ImGui::Combo("illuminant", &draft.emissionPreset, kIlluminants,
+                                int(std::size(kIlluminants)));
+    if (draft.emissionKind == 3)
+        changed |= ImGui::SliderFloat("temperature K", &draft.blackbodyK, 1000, 12000, "%.0f");
+    if (draft.emissionKind >= 2)
+        changed |= ImGui::SliderFloat("scale", &draft.emissionScale, 0, 100, "%.2f",
+                                      ImGuiSliderFlags_Logarithmic);
+    const char* fluorescenceKinds[] = {"as loaded", "none", "preset", "parameters"};
+    changed |= ImGui::Combo("fluorescence", &draft.fluorescenceKind, fluorescenceKinds, 4);
+    if (draft.fluorescenceKind == 2)
+        changed |= ImGui::Combo("fluorophore", &draft.fluorescencePreset, kFluorophores,
+                                int(std::size(kFluorophores)));
+    if (draft.fluorescenceKind == 3) {
+        changed |= ImGui::SliderFloat("absorption peak nm", &draft.absorptionPeakNm, 300, 700);
+        changed |= ImGui::SliderFloat("absorption FWHM nm", &draft.absorptionFwhmNm, 5, 200);
+        changed |= ImGui::SliderFloat("absorption", &draft.absorptionScale, 0, 1);
+        changed |= ImGui::SliderFloat("emission peak nm", &draft.emissionPeakNm, 350, 750);
+        changed |= ImGui::SliderFloat("emission FWHM nm", &draft.emissionFwhmNm, 5, 200);
+        changed |= ImGui::SliderFloat("quantum yield", &draft.quantumYield, 0, 1);
+    }
+    return changed;
+}
+
+void pickedPatch(const UiState& state, const DisplaySnapshot& snapshot, const Scene& scene,
+                 const SolveWorker& worker) {
+    if (!state.picked) {
+        ImGui::TextDisabled("click a surface to plot its B(lambda)");
+        return;
+    }
+    const std::size_t p = *state.picked, m = snapshot.wavelengthCount;
+    if (m == 0 || (p + 1) * (m + 4) > snapshot.patchValues.size()) return;
+    std::vector<float> radiosity(m), incident(m);
+    float top = 0;
+    for (std::size_t k = 0; k < m; ++k) {
+        // patchValues hold radiance L = B / pi (Session::patchChannels).
+        radiosity[k] = float(snapshot.patchValues[p * (m + 4) + k] * 3.14159265358979);
+        incident[k] = snapshot.gathered.size() == worker.patches().patchCount() * m
+            ? float(snapshot.gathered[p * m + k])
+            : 0.0f;
+        top = std::max({top, radiosity[k], incident[k]});
+    }
+    const uint32_t material = worker.patches().materials[p];
+    ImGui::Text("patch %zu, material '%s'", p,
+                material < scene.materials.size() ? scene.materials[material].name.c_str() : "");
+    const std::string range = concat(formatNumber(snapshot.wavelengthsNm.front(), 4), "..",
+                                     formatNumber(snapshot.wavelengthsNm.back(), 4), " nm");
+    ImGui::PlotLines("B (W m^-2 nm^-1)", radiosity.data(), int(m), 0, range.c_str(), 0,
+                     top * 1.05f + 1e-12f, ImVec2(0, 70));
+    ImGui::PlotLines("incident G = F B", incident.data(), int(m), 0, range.c_str(), 0,
+                     top * 1.05f + 1e-12f, ImVec2(0, 70));
+}
+
+}  // namespace
+
+void initUi(UiState& state, const Scene& scene, const std::string& wavelengthsText) {
+    state.wavelengthsText = wavelengthsText;
+    state.drafts.clear();
+    for (const Material& material : scene.materials) {
+        MaterialDraft draft;
+        for (int c = 0; c < 3; ++c)
+            draft.reflectanceRgb[std::size_t(c)] = float(material.baseColor[std::size_t(c)]);
+        if (material.spectral.reflectance) {
+            if (const auto* rgb = std::get_if<RgbSpectrum>(&material.spectral.reflectance->shape)) {
+                for (int c = 0; c < 3; ++c)
+                    draft.reflectanceRgb[std::size_t(c)] = float(rgb->rgb[std::size_t(c)]);
+            }
+        }
+        const float mean =
+            (draft.reflectanceRgb[0] + draft.reflectanceRgb[1] + draft.reflectanceRgb[2]) / 3;
+        draft.reflectancePoints.fill(mean);
+        state.drafts.push_back(draft);
+    }
+}
+
+void drawPanel(UiState& state, const DisplaySnapshot& snapshot, SolveWorker& worker,
+               const Scene& scene) {
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(400, 600), ImGuiCond_FirstUseEver);
+    ImGui::Begin("DaisyRiot");
+    statistics(state, snapshot, worker, scene);
+    if (ImGui::CollapsingHeader("view", ImGuiTreeNodeFlags_DefaultOpen))
+        viewControls(state, snapshot, scene);
+    if (ImGui::CollapsingHeader("solver", ImGuiTreeNodeFlags_DefaultOpen))
+        solverControls(state, snapshot, worker);
+    if (ImGui::CollapsingHeader("materials")) {
+        if (!snapshot.message.empty())
+            ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", snapshot.message.c_str());
+        for (std::size_t k = 0; k < state.drafts.size() && k < scene.materials.size(); ++k) {
+            ImGui::PushID(int(k));
+            if (ImGui::TreeNode(scene.materials[k].name.c_str())) {
+                if (materialEditor(state.drafts[k]))
+                    worker.setMaterial(k, buildMaterial(scene.materials[k], state.drafts[k]));
+                ImGui::TreePop();
+            }
+            ImGui::PopID();
+        }
+    }
+    if (ImGui::CollapsingHeader("picked patch", ImGuiTreeNodeFlags_DefaultOpen))
+        pickedPatch(state, snapshot, scene, worker);
+    ImGui::End();
+}
+
+}  // namespace daisy::viewer

@@ -1,0 +1,56 @@
+#pragma once
+// The viewer's Dear ImGui panel (issue 15 item 4): scene statistics, view modes and exposure,
+// cameras, solver controls (one bounce, to convergence, reset to emission; iteration, change and
+// residual live), the wavelength set, the materials editor, and the picked patch's B(lambda) and
+// incident light. Edits go to the solve worker, which refuses invalid ones with the reason shown.
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "scene/scene.h"
+#include "viewer/display_values.h"
+#include "viewer/solve_worker.h"
+
+namespace daisy::viewer {
+
+// The editor's controls for one material.
+struct MaterialDraft {
+    std::array<float, 3> reflectanceRgb{0.8f, 0.8f, 0.8f};
+    bool spectralReflectance = false;  // control points instead of RGB
+    std::array<float, 8> reflectancePoints{};  // at kControlPointsNm
+    int emissionKind = 0;  // 0 as loaded, 1 none, 2 preset, 3 blackbody
+    int emissionPreset = 0;
+    float blackbodyK = 3000;
+    float emissionScale = 1;
+    int fluorescenceKind = 0;  // 0 as loaded, 1 none, 2 preset, 3 parameters
+    int fluorescencePreset = 0;
+    float absorptionPeakNm = 365, absorptionFwhmNm = 40, absorptionScale = 0.5f;
+    float emissionPeakNm = 450, emissionFwhmNm = 50, quantumYield = 0.8f;
+};
+
+struct UiState {
+    DisplaySettings display;
+    bool wireframe = false;
+    bool autoExposure = true;
+    float ev = 0;  // fixed exposure, stops
+    bool fly = false;  // fly controls instead of orbit
+    int cameraRequest = -1;  // set by the panel: a glTF camera to switch to; -2 = reset view
+    std::optional<uint32_t> picked;  // the clicked patch
+    std::string wavelengthsText = "auto";
+    double frameSeconds = 0;  // measured by the loop
+    double appliedEv = 0;  // the exposure in use, stops
+    FalseRange range;  // of the false colour in use
+    std::vector<MaterialDraft> drafts;  // per material; filled by initUi
+    bool screenshotRequest = false;
+};
+
+// Fills the drafts from the scene's materials.
+void initUi(UiState& state, const Scene& scene, const std::string& wavelengthsText);
+
+// Draws the panel (between ImGui::NewFrame and ImGui::Render) and posts edits to `worker`.
+void drawPanel(UiState& state, const DisplaySnapshot& snapshot, SolveWorker& worker,
+               const Scene& scene);
+
+}  // namespace daisy::viewer

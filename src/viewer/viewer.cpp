@@ -1,0 +1,768 @@
+#include "viewer/viewer.h"
+
+#include <volk.h>
+// GLFW after volk: it declares its Vulkan functions when VK_VERSION_1_0 is defined.
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_vulkan.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <optional>
+
+#include "core/log.h"
+#include "core/memory.h"
+#include "core/strings.h"
+#include "core/timer.h"
+#include "image/camera.h"
+#include "image/image_io.h"
+#include "image/renderer.h"
+#include "spectral/color.h"
+#include "viewer/display_values.h"
+#include "viewer/material_edit.h"
+#include "viewer/patch_pipeline.h"
+#include "viewer/solve_worker.h"
+#include "viewer/swapchain.h"
+#include "viewer/ui.h"
+#include "viewer/view_camera.h"
+#include "vulkan/vk_check.h"
+
+namespace daisy::viewer {
+namespace {
+
+constexpr int kFramesInFlight = 2;
+// The automatic exposure is measured on a ray-cast image this many times smaller per axis than
+// the window (the test mode's last frame: full size, as `daisy render`), at most this often.
+constexpr int kExposureDownscale = 4;
+constexpr double kExposureIntervalSeconds = 0.25;
+
+struct Frame {
+    VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
+    VkSemaphore imageAvailable = VK_NULL_HANDLE;
+    VkFence fence = VK_NULL_HANDLE;
+};
+
+// The automatic exposure of the view (image/exposure.h autoExposureScale, as `daisy render`
+// applies it) measured on a ray-cast image of the snapshot's smooth corner values.
+double measureExposure(const PatchMesh& mesh, const Camera& camera, const DisplaySnapshot& snapshot,
+                       int width, int height) {
+    const std::size_t m = snapshot.wavelengthCount;
+    const std::size_t corners = snapshot.corners.size() / (m + 4);
+    std::vector<float> xyz(corners * 4);
+    for (std::size_t c = 0; c < corners; ++c) {
+        for (std::size_t k = 0; k < 4; ++k)
+            xyz[c * 4 + k] = snapshot.corners[c * (m + 4) + m + k];
+    }
+    RenderSettings settings;
+    settings.width = std::max(width, 1);
+    settings.height = std::max(height, 1);
+    const float miss[4] = {0, 0, 0, 0};
+    Camera imageCamera = camera;
+    imageCamera.aspectRatio = 0;
+    auto image = renderCornerValues(mesh, imageCamera, settings, xyz, 4, miss);
+    return image ? autoExposureScale(*image) : 1.0;
+}
+
+// The rows of display RGB from XYZ times `scale` (spectral/color.h, IEC 61966-2-1).
+void colourRows(double scale, float rows[12]) {
+    for (int row = 0; row < 3; ++row) {
+        Xyz unit{0, 0, 0};
+        for (int column = 0; column < 3; ++column) {
+            unit = Xyz{0, 0, 0};
+            unit[std::size_t(column)] = 1;
+            const Rgb rgb = xyzToLinearSrgb(unit);
+            rows[row * 4 + column] = static_cast<float>(rgb[std::size_t(row)] * scale);
+        }
+        rows[row * 4 + 3] = 0;
+    }
+}
+
+class Viewer {
+public:
+    Viewer(Session session, const ViewerOptions& options)
+        : options_(options), worker_(std::move(session)) {}
+    ~Viewer();
+
+    // 0, or the exit status of a failure (message logged).
+    int open();
+    int run();
+
+private:
+    void initImgui();
+    bool recreateSwapchain();
+    void handleInput(double dt);
+    void applyCameraRequest();
+    void updateValues(int frame, const DisplaySnapshot& snapshot);
+    void updateExposure(const DisplaySnapshot& snapshot, bool exact);
+    // Draws one frame; `capture` copies its pixels into the read-back buffer. False when the
+    // frame was skipped (swapchain out of date, minimised).
+    bool drawFrame(bool capture);
+    Expected<void> writeCapture(const std::string& path);
+    void exerciseWindow(int frame);
+    // After a scripted edit: when the first frame showing an updated iterate, and the first
+    // showing the converged solution, were submitted (seconds after the edit was posted).
+    void trackEdit();
+
+    ViewerOptions options_;
+    SolveWorker worker_;
+    Scene scene_;  // the scene as loaded: cameras and names (materials live in the worker)
+    GLFWwindow* window_ = nullptr;
+    VulkanContext context_;
+    VkSurfaceKHR surface_ = VK_NULL_HANDLE;
+    SurfaceFormats formats_;
+    VkRenderPass renderPass_ = VK_NULL_HANDLE;
+    Swapchain swapchain_;
+    PatchPipeline pipeline_;
+    PatchBuffers buffers_;
+    Frame frames_[kFramesInFlight];
+    HostBuffer readback_;
+    VkDescriptorPool imguiPool_ = VK_NULL_HANDLE;
+    bool showPanel_ = true;
+    bool imgui_ = false;
+    bool resized_ = false;
+    int frame_ = 0;
+    uint64_t framesDrawn_ = 0;
+
+    std::optional<ViewCamera> camera_;
+    Camera startCamera_;
+    double sceneSize_ = 1;  // bounding-box diagonal, scene units
+    int cameraIndex_ = -1;
+    UiState ui_;
+    DisplaySettings valueSettings_[kFramesInFlight];
+    std::vector<float> values_;
+    std::vector<std::string> pendingEdits_;
+    double editPostedAt_ = -1;
+    uint64_t editVersion_ = 0;
+    double firstImageSeconds_ = -1, convergedSeconds_ = -1;
+    uint64_t shownVersion_ = 0;  // the snapshot the last frame drew
+    bool shownSolving_ = false;
+
+    double exposureScale_ = 1;
+    bool exposureExact_ = false;
+    uint64_t exposureVersion_ = 0;
+    std::optional<Camera> exposureCamera_;
+    double exposureAt_ = -1;
+    Timer clock_;
+
+    double lastMouseX_ = 0, lastMouseY_ = 0, pressX_ = 0, pressY_ = 0;
+    bool dragging_ = false;
+    double scroll_ = 0;
+    bool f12Down_ = false, rDown_ = false, cDown_ = false, fDown_ = false, tabDown_ = false;
+};
+
+void onScroll(GLFWwindow* window, double, double y) {
+    auto* scroll = static_cast<double*>(glfwGetWindowUserPointer(window));
+    if (scroll) *scroll += y;
+}
+
+Viewer::~Viewer() {
+    if (context_.device) {
+        vkDeviceWaitIdle(context_.device);
+        if (imgui_) {
+            ImGui_ImplVulkan_Shutdown();
+            ImGui_ImplGlfw_Shutdown();
+            ImGui::DestroyContext();
+        }
+        if (imguiPool_) vkDestroyDescriptorPool(context_.device, imguiPool_, nullptr);
+        for (Frame& frame : frames_) {
+            if (frame.fence) vkDestroyFence(context_.device, frame.fence, nullptr);
+            if (frame.imageAvailable)
+                vkDestroySemaphore(context_.device, frame.imageAvailable, nullptr);
+        }
+        destroyHostBuffer(context_, readback_);
+        destroyPatchBuffers(context_, buffers_);
+        destroyPatchPipeline(context_, pipeline_);
+        destroySwapchain(context_, swapchain_);
+        if (renderPass_) vkDestroyRenderPass(context_.device, renderPass_, nullptr);
+    }
+    if (surface_) vkDestroySurfaceKHR(context_.instance, surface_, nullptr);
+    destroyContext(context_);
+    if (window_) glfwDestroyWindow(window_);
+    glfwTerminate();
+}
+
+int Viewer::open() {
+    scene_ = worker_.initialScene();
+    // Fail fast on the options before the window opens.
+    const double aspect = double(options_.width) / double(options_.height);
+    auto chosen = chooseCamera(scene_, options_.camera, aspect);
+    if (!chosen) {
+        logError(concat("--camera: ", chosen.error().message));
+        return 2;
+    }
+    for (const std::string& text : options_.edits) {
+        auto edit = parseMaterialEdit(text);
+        if (!edit) {
+            logError(edit.error().message);
+            return 2;
+        }
+        auto targets = editTargets(scene_, *edit);
+        if (!targets) {
+            logError(targets.error().message);
+            return 2;
+        }
+    }
+    pendingEdits_ = options_.edits;
+    startCamera_ = *chosen;
+    startCamera_.aspectRatio = 0;
+    Vec3d lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+    for (const Vec3d& p : worker_.patches().positions) {
+        for (int axis = 0; axis < 3; ++axis) {
+            lo[axis] = std::min(lo[axis], p[axis]);
+            hi[axis] = std::max(hi[axis], p[axis]);
+        }
+    }
+    if (worker_.patches().positions.empty()) lo = hi = Vec3d{0, 0, 0};
+    sceneSize_ = std::max(length(hi - lo), 1e-6);
+    camera_.emplace(startCamera_, defaultOrbitDistance(startCamera_, lo, hi));
+    showPanel_ = options_.frames == 0;
+
+    if (!glfwInit()) {
+        logError(
+            "daisy view: cannot open a window (no display: set DISPLAY, or run under xvfb-run)");
+        return 1;
+    }
+    if (!glfwVulkanSupported()) {
+        logError("daisy view: GLFW finds no Vulkan loader (install a Vulkan driver)");
+        return 1;
+    }
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    window_ = glfwCreateWindow(options_.width, options_.height, "daisy view", nullptr, nullptr);
+    if (!window_) {
+        logError("daisy view: cannot create a window");
+        return 1;
+    }
+    glfwSetWindowUserPointer(window_, &scroll_);
+    glfwSetScrollCallback(window_, onScroll);
+
+    uint32_t extensionCount = 0;
+    const char** extensions = glfwGetRequiredInstanceExtensions(&extensionCount);
+    auto instance = createInstance(std::span<const char* const>(extensions, extensionCount));
+    if (!instance) {
+        logError(concat("daisy view: ", instance.error().message));
+        return 1;
+    }
+    context_.instance = *instance;
+    const VkResult surfaceResult =
+        glfwCreateWindowSurface(context_.instance, window_, nullptr, &surface_);
+    if (surfaceResult != VK_SUCCESS) {
+        logError(concat("daisy view: cannot create a Vulkan surface for the window (",
+                        vkResultName(surfaceResult), ")"));
+        return 1;
+    }
+    DeviceRequirements requirements;
+    requirements.compute = false;
+    requirements.graphics = true;
+    requirements.presentSurface = surface_;
+    auto physicalDevice = pickPhysicalDevice(context_.instance, options_.device, requirements);
+    if (!physicalDevice) {
+        logError(concat("daisy view: ", physicalDevice.error().message));
+        return options_.device.empty() ? 1 : 2;
+    }
+    const VkInstance ownedInstance = context_.instance;
+    context_.instance = VK_NULL_HANDLE;  // createDevice owns it from here, also on failure
+    auto context = createDevice(ownedInstance, *physicalDevice, requirements);
+    if (!context) {
+        vkDestroySurfaceKHR(ownedInstance, surface_, nullptr);
+        surface_ = VK_NULL_HANDLE;
+        logError(concat("daisy view: ", context.error().message));
+        return 1;
+    }
+    context_ = *context;
+    logInfo(concat("view: device '", context_.properties.deviceName, "' (",
+                   deviceTypeName(context_.properties.deviceType), ")"));
+
+    formats_ = chooseSurfaceFormats(context_, surface_);
+    renderPass_ = createRenderPass(context_, formats_);
+    pipeline_ = createPatchPipeline(context_, renderPass_);
+    buffers_ = createPatchBuffers(context_, worker_.patches(), kFramesInFlight);
+    for (Frame& frame : frames_) {
+        VkCommandBufferAllocateInfo allocateInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+        allocateInfo.commandPool = context_.commandPool;
+        allocateInfo.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+        allocateInfo.commandBufferCount = 1;
+        VK_CHECK(vkAllocateCommandBuffers(context_.device, &allocateInfo, &frame.commandBuffer));
+        VkSemaphoreCreateInfo semaphoreInfo{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+        VK_CHECK(
+            vkCreateSemaphore(context_.device, &semaphoreInfo, nullptr, &frame.imageAvailable));
+        VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        fenceInfo.flags = VK_FENCE_CREATE_SIGNALED_BIT;
+        VK_CHECK(vkCreateFence(context_.device, &fenceInfo, nullptr, &frame.fence));
+    }
+    int width = 0, height = 0;
+    glfwGetFramebufferSize(window_, &width, &height);
+    createSwapchain(context_, surface_, formats_, renderPass_, uint32_t(width), uint32_t(height),
+                    swapchain_);
+    initUi(ui_, scene_, options_.wavelengthsText);
+    ui_.autoExposure = options_.exposure.automatic;
+    ui_.ev = static_cast<float>(options_.exposure.ev);
+    if (showPanel_ || options_.panel) initImgui();
+    showPanel_ = showPanel_ || options_.panel;
+    return 0;
+}
+
+void Viewer::initImgui() {
+    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 16};
+    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    poolInfo.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+    poolInfo.maxSets = 16;
+    poolInfo.poolSizeCount = 1;
+    poolInfo.pPoolSizes = &size;
+    VK_CHECK(vkCreateDescriptorPool(context_.device, &poolInfo, nullptr, &imguiPool_));
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;
+    ImGui::StyleColorsDark();
+    // Chains to the scroll callback installed above.
+    ImGui_ImplGlfw_InitForVulkan(window_, true);
+    // The prebuilt Dear ImGui would call the vk* prototypes volk replaces: load through volk.
+    ImGui_ImplVulkan_LoadFunctions(
+        [](const char* name, void* instance) {
+            return vkGetInstanceProcAddr(static_cast<VkInstance>(instance), name);
+        },
+        context_.instance);
+    ImGui_ImplVulkan_InitInfo info{};
+    info.Instance = context_.instance;
+    info.PhysicalDevice = context_.physicalDevice;
+    info.Device = context_.device;
+    info.QueueFamily = context_.queueFamily;
+    info.Queue = context_.queue;
+    info.DescriptorPool = imguiPool_;
+    info.Subpass = 0;
+    info.MinImageCount = std::max(swapchain_.minImageCount, 2u);
+    info.ImageCount = std::max<uint32_t>(uint32_t(swapchain_.images.size()), info.MinImageCount);
+    info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
+    ImGui_ImplVulkan_Init(&info, renderPass_);
+    submitAndWait(context_, [](VkCommandBuffer commandBuffer) {
+        ImGui_ImplVulkan_CreateFontsTexture(commandBuffer);
+    });
+    ImGui_ImplVulkan_DestroyFontUploadObjects();
+    imgui_ = true;
+}
+
+bool Viewer::recreateSwapchain() {
+    int width = 0, height = 0;
+    glfwGetFramebufferSize(window_, &width, &height);
+    if (width == 0 || height == 0) return false;
+    vkDeviceWaitIdle(context_.device);
+    if (!createSwapchain(context_, surface_, formats_, renderPass_, uint32_t(width),
+                         uint32_t(height), swapchain_))
+        return false;
+    if (imgui_) ImGui_ImplVulkan_SetMinImageCount(std::max(swapchain_.minImageCount, 2u));
+    resized_ = false;
+    return true;
+}
+
+void Viewer::applyCameraRequest() {
+    if (ui_.cameraRequest == -1) return;
+    const double distance = camera_->orbitDistance();
+    if (ui_.cameraRequest == -2) {
+        camera_.emplace(startCamera_, distance);
+        cameraIndex_ = -1;
+    } else if (ui_.cameraRequest >= 0 && std::size_t(ui_.cameraRequest) < scene_.cameras.size()) {
+        Camera camera = scene_.cameras[std::size_t(ui_.cameraRequest)];
+        camera.aspectRatio = 0;
+        camera_.emplace(camera, distance);
+        cameraIndex_ = ui_.cameraRequest;
+    }
+    ui_.cameraRequest = -1;
+}
+
+// Edge-triggered key press.
+bool pressed(GLFWwindow* window, int key, bool& down) {
+    const bool now = glfwGetKey(window, key) == GLFW_PRESS;
+    const bool edge = now && !down;
+    down = now;
+    return edge;
+}
+
+void Viewer::handleInput(double dt) {
+    const bool mouseTaken = imgui_ && showPanel_ && ImGui::GetIO().WantCaptureMouse;
+    const bool keysTaken = imgui_ && showPanel_ && ImGui::GetIO().WantCaptureKeyboard;
+    double x = 0, y = 0;
+    glfwGetCursorPos(window_, &x, &y);
+    const double dx = x - lastMouseX_, dy = y - lastMouseY_;
+    lastMouseX_ = x;
+    lastMouseY_ = y;
+    int windowWidth = 1, windowHeight = 1;
+    glfwGetWindowSize(window_, &windowWidth, &windowHeight);
+    const bool left = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+    const bool right = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
+        glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
+    if (!mouseTaken) {
+        if (left && !dragging_) {
+            dragging_ = true;
+            pressX_ = x;
+            pressY_ = y;
+        }
+        if (left && (dx != 0 || dy != 0)) {
+            const double radiansPerPixel = 0.005;
+            if (ui_.fly) {
+                camera_->look(-dx * radiansPerPixel, -dy * radiansPerPixel);
+            } else {
+                camera_->orbit(-dx * radiansPerPixel, -dy * radiansPerPixel);
+            }
+        }
+        if (right && (dx != 0 || dy != 0)) {
+            const double perPixel = 2 * camera_->orbitDistance() *
+                std::tan(0.5 * camera_->camera().yFovRad) / std::max(windowHeight, 1);
+            camera_->pan(-dx * perPixel, dy * perPixel);
+        }
+        if (scroll_ != 0) camera_->dolly(0.1 * scroll_);
+    }
+    scroll_ = 0;
+    if (!left && dragging_) {
+        dragging_ = false;
+        if (!mouseTaken && std::abs(x - pressX_) < 3 && std::abs(y - pressY_) < 3) {
+            int width = 1, height = 1;
+            glfwGetFramebufferSize(window_, &width, &height);
+            const double sx = double(width) / std::max(windowWidth, 1);
+            const double sy = double(height) / std::max(windowHeight, 1);
+            ui_.picked =
+                pickPatch(worker_.patches(), camera_->camera(), width, height, x * sx, y * sy);
+        }
+    }
+    if (keysTaken) return;
+    const double speed = 0.3 * sceneSize_ * dt;
+    const auto key = [&](int k) { return glfwGetKey(window_, k) == GLFW_PRESS ? 1.0 : 0.0; };
+    const double forward = key(GLFW_KEY_W) - key(GLFW_KEY_S);
+    const double sideways = key(GLFW_KEY_D) - key(GLFW_KEY_A);
+    const double up = key(GLFW_KEY_E) - key(GLFW_KEY_Q);
+    if (forward != 0 || sideways != 0 || up != 0)
+        camera_->fly(forward * speed, sideways * speed, up * speed);
+    if (pressed(window_, GLFW_KEY_R, rDown_)) ui_.cameraRequest = -2;
+    if (pressed(window_, GLFW_KEY_C, cDown_) && !scene_.cameras.empty())
+        ui_.cameraRequest = (cameraIndex_ + 1) % int(scene_.cameras.size());
+    if (pressed(window_, GLFW_KEY_F, fDown_)) ui_.fly = !ui_.fly;
+    if (pressed(window_, GLFW_KEY_TAB, tabDown_) && imgui_) showPanel_ = !showPanel_;
+    if (pressed(window_, GLFW_KEY_F12, f12Down_)) ui_.screenshotRequest = true;
+}
+
+void Viewer::updateValues(int frame, const DisplaySnapshot& snapshot) {
+    if (buffers_.valueVersions[std::size_t(frame)] == snapshot.version &&
+        valueSettings_[frame] == ui_.display)
+        return;
+    ui_.range = displayValues(snapshot, ui_.display, values_);
+    std::memcpy(buffers_.values[std::size_t(frame)].mapped, values_.data(),
+                std::min<std::size_t>(values_.size() * sizeof(float),
+                                      buffers_.values[std::size_t(frame)].bytes));
+    buffers_.valueVersions[std::size_t(frame)] = snapshot.version;
+    valueSettings_[frame] = ui_.display;
+}
+
+bool sameCamera(const Camera& a, const Camera& b) {
+    return a.position == b.position && a.forward == b.forward && a.up == b.up &&
+        a.yFovRad == b.yFovRad;
+}
+
+void Viewer::updateExposure(const DisplaySnapshot& snapshot, bool exact) {
+    if (!ui_.autoExposure) {
+        exposureScale_ = std::exp2(double(ui_.ev));
+        exposureCamera_.reset();
+        ui_.appliedEv = ui_.ev;
+        return;
+    }
+    const bool current = exposureVersion_ == snapshot.version && exposureCamera_ &&
+        sameCamera(*exposureCamera_, camera_->camera()) && (exposureExact_ || !exact);
+    if (current) return;
+    const double now = clock_.seconds();
+    if (!exact && exposureAt_ >= 0 && now - exposureAt_ < kExposureIntervalSeconds) return;
+    const int divisor = exact ? 1 : kExposureDownscale;
+    exposureScale_ = measureExposure(worker_.patches(), camera_->camera(), snapshot,
+                                     int(swapchain_.extent.width) / divisor,
+                                     int(swapchain_.extent.height) / divisor);
+    exposureVersion_ = snapshot.version;
+    exposureCamera_ = camera_->camera();
+    exposureExact_ = exact;
+    exposureAt_ = clock_.seconds();
+    ui_.appliedEv = std::log2(exposureScale_);
+}
+
+bool Viewer::drawFrame(bool capture) {
+    if (resized_ && !recreateSwapchain()) return false;
+    if (!swapchain_.swapchain) {
+        if (!recreateSwapchain()) return false;
+    }
+    Frame& frame = frames_[frame_];
+    VK_CHECK(vkWaitForFences(context_.device, 1, &frame.fence, VK_TRUE, UINT64_MAX));
+    uint32_t imageIndex = 0;
+    const VkResult acquired =
+        vkAcquireNextImageKHR(context_.device, swapchain_.swapchain, UINT64_MAX,
+                              frame.imageAvailable, VK_NULL_HANDLE, &imageIndex);
+    if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
+        recreateSwapchain();
+        return false;
+    }
+    if (acquired != VK_SUBOPTIMAL_KHR) VK_CHECK(acquired);
+    const std::shared_ptr<const DisplaySnapshot> snapshot = worker_.latest();
+    updateValues(frame_, *snapshot);
+    shownVersion_ = snapshot->version;
+    shownSolving_ = snapshot->solving;
+    updateExposure(*snapshot, capture && options_.frames > 0);
+
+    if (imgui_) {
+        ImGui_ImplVulkan_NewFrame();
+        ImGui_ImplGlfw_NewFrame();
+        ImGui::NewFrame();
+        if (showPanel_) drawPanel(ui_, *snapshot, worker_, scene_);
+        ImGui::Render();
+    }
+
+    shared::ViewerPush push{};
+    const std::array<float, 16> viewProj = viewProjection(
+        camera_->camera(), double(swapchain_.extent.width) / double(swapchain_.extent.height));
+    std::copy(viewProj.begin(), viewProj.end(), push.viewProj);
+    colourRows(exposureScale_, push.colourRows);
+    push.mode = ui_.display.quantity == DisplayQuantity::Colour ? DAISY_VIEWER_MODE_COLOUR
+                                                                : DAISY_VIEWER_MODE_FALSE;
+    push.flags = (formats_.encodeSrgb ? DAISY_VIEWER_FLAG_ENCODE_SRGB : 0u) |
+        (ui_.wireframe ? DAISY_VIEWER_FLAG_WIREFRAME : 0u);
+    push.falseLo = static_cast<float>(ui_.range.lo);
+    push.falseHi = static_cast<float>(ui_.range.hi);
+
+    VkCommandBuffer commandBuffer = frame.commandBuffer;
+    VK_CHECK(vkResetCommandBuffer(commandBuffer, 0));
+    VkCommandBufferBeginInfo beginInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    beginInfo.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    VK_CHECK(vkBeginCommandBuffer(commandBuffer, &beginInfo));
+    VkClearValue clears[2]{};
+    clears[0].color = {{0, 0, 0, 1}};
+    clears[1].depthStencil = {0.0f, 0};
+    VkRenderPassBeginInfo passInfo{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+    passInfo.renderPass = renderPass_;
+    passInfo.framebuffer = swapchain_.framebuffers[imageIndex];
+    passInfo.renderArea = {{0, 0}, swapchain_.extent};
+    passInfo.clearValueCount = 2;
+    passInfo.pClearValues = clears;
+    vkCmdBeginRenderPass(commandBuffer, &passInfo, VK_SUBPASS_CONTENTS_INLINE);
+    recordPatches(commandBuffer, pipeline_, buffers_, frame_, push, swapchain_.extent);
+    if (imgui_) ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), commandBuffer);
+    vkCmdEndRenderPass(commandBuffer);
+
+    const bool copy = capture && swapchain_.transferSource;
+    if (copy) {
+        const VkDeviceSize bytes =
+            VkDeviceSize(swapchain_.extent.width) * swapchain_.extent.height * 4;
+        if (readback_.bytes < bytes) {
+            destroyHostBuffer(context_, readback_);
+            readback_ = createHostBuffer(context_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+        }
+        VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+        barrier.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
+        barrier.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        barrier.oldLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+        barrier.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+        barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        barrier.image = swapchain_.images[imageIndex];
+        barrier.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+        vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 0, nullptr, 0, nullptr, 1,
+                             &barrier);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {swapchain_.extent.width, swapchain_.extent.height, 1};
+        vkCmdCopyImageToBuffer(commandBuffer, swapchain_.images[imageIndex],
+                               VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback_.buffer, 1, &region);
+        barrier.srcAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
+        barrier.dstAccessMask = 0;
+        barrier.oldLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+        barrier.newLayout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR;
+        vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0, nullptr, 0, nullptr, 1,
+                             &barrier);
+        VkBufferMemoryBarrier hostRead{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER};
+        hostRead.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
+        hostRead.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+        hostRead.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        hostRead.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        hostRead.buffer = readback_.buffer;
+        hostRead.size = VK_WHOLE_SIZE;
+        vkCmdPipelineBarrier(commandBuffer, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_HOST_BIT, 0, 0, nullptr, 1, &hostRead, 0, nullptr);
+    }
+    VK_CHECK(vkEndCommandBuffer(commandBuffer));
+
+    VK_CHECK(vkResetFences(context_.device, 1, &frame.fence));
+    const VkPipelineStageFlags waitStage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    submit.waitSemaphoreCount = 1;
+    submit.pWaitSemaphores = &frame.imageAvailable;
+    submit.pWaitDstStageMask = &waitStage;
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &commandBuffer;
+    submit.signalSemaphoreCount = 1;
+    submit.pSignalSemaphores = &swapchain_.renderFinished[imageIndex];
+    VK_CHECK(vkQueueSubmit(context_.queue, 1, &submit, frame.fence));
+    VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
+    present.waitSemaphoreCount = 1;
+    present.pWaitSemaphores = &swapchain_.renderFinished[imageIndex];
+    present.swapchainCount = 1;
+    present.pSwapchains = &swapchain_.swapchain;
+    present.pImageIndices = &imageIndex;
+    const VkResult presented = vkQueuePresentKHR(context_.queue, &present);
+    if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR) {
+        resized_ = true;
+    } else {
+        VK_CHECK(presented);
+    }
+    if (copy) VK_CHECK(vkWaitForFences(context_.device, 1, &frame.fence, VK_TRUE, UINT64_MAX));
+    frame_ = (frame_ + 1) % kFramesInFlight;
+    ++framesDrawn_;
+    return copy || !capture;
+}
+
+Expected<void> Viewer::writeCapture(const std::string& path) {
+    const uint32_t width = swapchain_.extent.width, height = swapchain_.extent.height;
+    std::vector<uint8_t> rgb(std::size_t(width) * height * 3);
+    const auto* pixels = static_cast<const uint8_t*>(readback_.mapped);
+    for (std::size_t p = 0; p < std::size_t(width) * height; ++p) {
+        rgb[p * 3 + 0] = pixels[p * 4 + (formats_.bgr ? 2 : 0)];
+        rgb[p * 3 + 1] = pixels[p * 4 + 1];
+        rgb[p * 3 + 2] = pixels[p * 4 + (formats_.bgr ? 0 : 2)];
+    }
+    return writePng(path, int(width), int(height), rgb);
+}
+
+void Viewer::exerciseWindow(int frame) {
+    // Smaller, minimised, restored, larger, then the size asked for: each makes the swapchain
+    // out of date or zero-sized.
+    switch (frame) {
+        case 2:
+            glfwSetWindowSize(window_, std::max(options_.width / 2, 1),
+                              std::max(options_.height / 3, 1));
+            break;
+        case 4:
+            glfwIconifyWindow(window_);
+            break;
+        case 6:
+            glfwRestoreWindow(window_);
+            break;
+        case 8:
+            glfwSetWindowSize(window_, options_.width + 64, options_.height + 48);
+            break;
+        case 10:
+            glfwSetWindowSize(window_, options_.width, options_.height);
+            break;
+        default:
+            break;
+    }
+}
+
+void Viewer::trackEdit() {
+    if (editPostedAt_ < 0 || shownVersion_ <= editVersion_) return;
+    const double since = clock_.seconds() - editPostedAt_;
+    if (firstImageSeconds_ < 0) firstImageSeconds_ = since;
+    if (convergedSeconds_ < 0 && !shownSolving_ && worker_.idle()) convergedSeconds_ = since;
+}
+
+int Viewer::run() {
+    double last = clock_.seconds();
+    double smoothedFrame = 0;
+    int frameNumber = 0;
+    bool editsPosted = false;
+    while (!glfwWindowShouldClose(window_)) {
+        glfwPollEvents();
+        int width = 0, height = 0;
+        glfwGetFramebufferSize(window_, &width, &height);
+        if (width == 0 || height == 0) {
+            // Minimised: nothing to draw into; wait for the window to come back.
+            glfwWaitEventsTimeout(0.05);
+            if (options_.frames > 0) {
+                ++frameNumber;
+                if (options_.exerciseWindow) exerciseWindow(frameNumber);
+            }
+            continue;
+        }
+        if (swapchain_.extent.width != uint32_t(width) ||
+            swapchain_.extent.height != uint32_t(height))
+            resized_ = true;
+        const double now = clock_.seconds();
+        const double dt = now - last;
+        last = now;
+        smoothedFrame = smoothedFrame == 0 ? dt : 0.9 * smoothedFrame + 0.1 * dt;
+        ui_.frameSeconds = smoothedFrame;
+        handleInput(dt);
+        applyCameraRequest();
+        // Scripted edits go in after the first frame, as a user's would.
+        if (!editsPosted && frameNumber >= 1) {
+            editsPosted = true;
+            for (const std::string& text : pendingEdits_) {
+                auto edit = parseMaterialEdit(text);
+                auto targets = editTargets(scene_, *edit);
+                const auto snapshot = worker_.latest();
+                for (std::size_t index : *targets)
+                    worker_.setMaterial(index, applyEdit(snapshot->materials[index], *edit));
+            }
+            if (!pendingEdits_.empty()) {
+                editPostedAt_ = clock_.seconds();
+                editVersion_ = worker_.latest()->version;
+            }
+        }
+        const bool testMode = options_.frames > 0;
+        const bool sizeSettled = !options_.exerciseWindow ||
+            (width == options_.width && height == options_.height && frameNumber > 10);
+        const bool finalFrame = testMode && frameNumber + 1 >= options_.frames && editsPosted &&
+            worker_.idle() && sizeSettled;
+        const bool capture =
+            ui_.screenshotRequest || (finalFrame && !options_.screenshotPath.empty());
+        const bool drawn = drawFrame(capture);
+        ++frameNumber;
+        if (options_.exerciseWindow) exerciseWindow(frameNumber);
+        glfwSetWindowTitle(
+            window_,
+            concat("daisy view - ", scene_.path, " - ", formatNumber(smoothedFrame * 1e3, 3), " ms")
+                .c_str());
+        if (capture && drawn) {
+            const std::string path = ui_.screenshotRequest && !finalFrame
+                ? concat("daisy_view_", framesDrawn_, ".png")
+                : options_.screenshotPath;
+            if (!swapchain_.transferSource) {
+                logError(
+                    "daisy view: this swapchain's images cannot be read back (no "
+                    "VK_IMAGE_USAGE_TRANSFER_SRC_BIT); no screenshot");
+                if (finalFrame) return 1;
+            } else if (auto written = writeCapture(path); !written) {
+                logError(written.error().message);
+                if (finalFrame) return 1;
+            } else {
+                logInfo(concat("view: wrote ", path, " (", swapchain_.extent.width, " x ",
+                               swapchain_.extent.height, ", exposure ",
+                               formatNumber(ui_.appliedEv, 3), " EV)"));
+            }
+            ui_.screenshotRequest = false;
+        }
+        trackEdit();
+        if (finalFrame && (drawn || options_.screenshotPath.empty())) {
+            const auto snapshot = worker_.latest();
+            logInfo(concat("view: ", frameNumber, " frames, mean frame time ",
+                           formatNumber(smoothedFrame * 1e3, 3), " ms at ", swapchain_.extent.width,
+                           " x ", swapchain_.extent.height, "; peak memory ",
+                           formatBytes(double(peakResidentBytes()))));
+            if (!options_.edits.empty()) {
+                logInfo(concat("view: edit -> first updated frame ",
+                               formatNumber(firstImageSeconds_ * 1e3, 3), " ms, converged frame ",
+                               formatNumber(convergedSeconds_ * 1e3, 3), " ms (",
+                               snapshot->iteration, " iterations, residual ",
+                               formatNumber(snapshot->residual, 3), ")",
+                               snapshot->message.empty() ? "" : concat("; ", snapshot->message)));
+            }
+            break;
+        }
+    }
+    vkDeviceWaitIdle(context_.device);
+    return 0;
+}
+
+}  // namespace
+
+int runViewer(Session session, const ViewerOptions& options) {
+    Viewer viewer(std::move(session), options);
+    if (const int status = viewer.open(); status != 0) return status;
+    return viewer.run();
+}
+
+}  // namespace daisy::viewer

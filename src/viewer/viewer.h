@@ -1,0 +1,36 @@
+#pragma once
+// `daisy view` (issue 15, docs/viewer.md): a GLFW window with a Vulkan swapchain that shows the
+// session's smooth vertex radiance rasterised (the picture `daisy render` ray-casts), a camera to
+// orbit and fly, and a Dear ImGui panel with the solver controls and a live materials editor
+// whose re-solves run in the background (viewer/solve_worker.h). The test mode (--frames N,
+// --screenshot FILE) draws N frames without the panel, waits for the solves it started, saves the
+// last frame's pixels as a PNG and exits.
+#include <string>
+#include <vector>
+
+#include "image/exposure.h"
+#include "pipeline/session.h"
+
+namespace daisy::viewer {
+
+struct ViewerOptions {
+    std::string device;  // --device: index or part of the name; empty = by type
+    std::string camera;  // --camera: glTF camera name or index; empty = first, or framing
+    int width = 1280;  // the window's framebuffer size at start, pixels
+    int height = 720;
+    Exposure exposure;  // --exposure
+    int frames = 0;  // > 0: draw at least this many frames, then exit (the test mode)
+    std::string screenshotPath;  // the test mode's PNG of the last frame; F12 writes one too
+    std::vector<std::string> edits;  // --edit NAME.FIELD=VALUE, applied after the first frame
+    bool exerciseWindow = false;  // --exercise-window: resize and minimise during the frames
+    bool panel = false;  // --panel: show the panel in the test mode too
+    std::string wavelengthsText = "auto";  // --wavelengths as typed, for the panel
+};
+
+// Runs the viewer on `session` (F built and solved) until the window closes, or for the test
+// mode's frames, and returns the exit status: 0, 2 for a bad --edit or --camera (checked before
+// the window opens), 1 for no display or no Vulkan device that presents (the message, logged,
+// says which).
+int runViewer(Session session, const ViewerOptions& options);
+
+}  // namespace daisy::viewer
