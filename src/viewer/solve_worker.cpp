@@ -111,6 +111,7 @@ void SolveWorker::publish(const std::string& message, bool solving) {
     snapshot->solving = solving;
     if (!message.empty()) message_ = message;
     snapshot->message = message_;
+    snapshot->refusedEdits = refusedEdits_;
     if (session_.hasSolution() && !solving) {
         const SolverResult& result = session_.solution();
         snapshot->gathered = result.gathered;
@@ -173,6 +174,7 @@ void SolveWorker::run() {
             case Command::Kind::SetMaterial: {
                 auto set = session_.setMaterial(command.index, std::move(command.material));
                 if (!set) {
+                    ++refusedEdits_;
                     publish(concat("edit refused: ", set.error().message), false);
                     break;
                 }
@@ -195,6 +197,7 @@ void SolveWorker::run() {
             case Command::Kind::Wavelengths: {
                 auto set = session_.setWavelengths(command.spec, command.text);
                 if (!set) {
+                    ++refusedEdits_;
                     publish(concat("wavelengths refused: ", set.error().message), false);
                     break;
                 }

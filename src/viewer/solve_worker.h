@@ -33,6 +33,7 @@ struct DisplaySnapshot {
     bool converged = false;
     bool solving = false;
     std::string message;  // the last refusal or error, one line; empty when none
+    int refusedEdits = 0;  // material and wavelength edits refused so far
     // Seconds from the last material edit's post to this snapshot (-1 when no edit yet).
     double secondsSinceEdit = -1;
 };
@@ -91,6 +92,7 @@ private:
     int iteration_ = 0;
     double change_ = 0;
     std::string message_;
+    int refusedEdits_ = 0;
     double editPostedAt_ = -1;  // steady-clock seconds of the last edit's post
     std::thread thread_;
 };

@@ -750,6 +750,12 @@ int Viewer::run() {
                                formatNumber(snapshot->residual, 3), ")",
                                snapshot->message.empty() ? "" : concat("; ", snapshot->message)));
             }
+            if (snapshot->refusedEdits > 0) {
+                logError(concat("daisy view: ", snapshot->refusedEdits,
+                                " --edit refused: ", snapshot->message));
+                vkDeviceWaitIdle(context_.device);
+                return 2;
+            }
             break;
         }
     }
