@@ -41,6 +41,7 @@ SolveWorker::SolveWorker(Session session)
       patches_(session_.patches()),
       formFactors_(&session_.formFactors()),
       initialScene_(session_.scene()) {
+    if (session_.hasSolution()) lastGathered_ = session_.solution().gathered;
     publish("", false);
     thread_ = std::thread([this] { run(); });
 }
@@ -153,7 +154,30 @@ void SolveWorker::solve(bool bounce) {
         return;
     }
     iteration_ = solved->iterations;
+    if (solved->gathered.size() == solved->radiosity.size()) lastGathered_ = solved->gathered;
     publish("", false);
+}
+
+void SolveWorker::firstBounce(std::size_t material) {
+    const RadiositySystem& system = session_.system();
+    const std::size_t n = system.patchCount, m = system.wavelengthCount;
+    if (!session_.hasSolution() || lastGathered_.size() != n * m) return;
+    std::vector<double> radiosity = session_.solution().radiosity;
+    if (radiosity.size() != n * m) return;
+    for (std::size_t p = 0; p < n; ++p) {
+        if (patches_.materials[p] != material) continue;
+        const ReradiationMatrix& reradiation = system.operators[system.patchOperator[p]].matrix;
+        const double* gathered = lastGathered_.data() + p * m;
+        const double* emission = system.emissionRow(uint32_t(p));
+        for (std::size_t o = 0; o < m; ++o) {
+            double b = emission[o];
+            for (std::size_t k = 0; k <= o; ++k)  // lower-triangular (fluorescence.h)
+                b += reradiation(o, k) * gathered[k];
+            radiosity[p * m + o] = b;
+        }
+    }
+    session_.setSolution(std::move(radiosity));
+    publish("", true);
 }
 
 void SolveWorker::run() {
@@ -179,6 +203,7 @@ void SolveWorker::run() {
                     break;
                 }
                 message_.clear();
+                firstBounce(command.index);
                 solve(false);
                 break;
             }

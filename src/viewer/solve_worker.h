@@ -2,8 +2,11 @@
 // The viewer's background solver (issue 15 item 4): owns the session after F is built and runs
 // every edit and solve on its own thread, so the window keeps drawing. A new command cancels the
 // solve running (core/cancel.h); material edits re-solve warm from the last B with the cached F,
-// which is never rebuilt (Session::setMaterial). While a solve runs, the iterate is published
-// every kPublishSeconds (and after the first iteration), so the picture updates as it converges.
+// which is never rebuilt (Session::setMaterial). Before that solve, the edited material's patches
+// get one bounce of the light that last reached them, B_i = E_i + M_i G_i with the last solve's
+// G = F B (radiosity_system.h): an image within milliseconds of the edit, which the solve then
+// corrects. While a solve runs, the iterate is published every kPublishSeconds (and after the
+// first iteration), so the picture updates as it converges.
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -76,6 +79,8 @@ private:
     void run();
     void publish(const std::string& message, bool solving);
     void solve(bool bounce);
+    // The edited material's first bounce (above), published; nothing without a gathered G.
+    void firstBounce(std::size_t material);
 
     Session session_;
     const PatchMesh& patches_;
@@ -93,6 +98,7 @@ private:
     double change_ = 0;
     std::string message_;
     int refusedEdits_ = 0;
+    std::vector<double> lastGathered_;  // G = F B of the last solve that returned one
     double editPostedAt_ = -1;  // steady-clock seconds of the last edit's post
     std::thread thread_;
 };

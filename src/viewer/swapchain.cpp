@@ -122,16 +122,8 @@ bool createSwapchain(const VulkanContext& context, VkSurfaceKHR surface,
     uint32_t imageCount = std::max(capabilities.minImageCount + 1, 2u);
     if (capabilities.maxImageCount > 0)
         imageCount = std::min(imageCount, capabilities.maxImageCount);
-    uint32_t modeCount = 0;
-    vkGetPhysicalDeviceSurfacePresentModesKHR(context.physicalDevice, surface, &modeCount, nullptr);
-    std::vector<VkPresentModeKHR> modes(modeCount);
-    vkGetPhysicalDeviceSurfacePresentModesKHR(context.physicalDevice, surface, &modeCount,
-                                              modes.data());
-    // FIFO is always there (Vulkan spec); mailbox keeps the latency low without tearing.
-    VkPresentModeKHR presentMode = VK_PRESENT_MODE_FIFO_KHR;
-    for (VkPresentModeKHR mode : modes) {
-        if (mode == VK_PRESENT_MODE_MAILBOX_KHR) presentMode = mode;
-    }
+    // FIFO (vsync) is always there (Vulkan spec) and does not spin a core on a real display.
+    const VkPresentModeKHR presentMode = VK_PRESENT_MODE_FIFO_KHR;
     const bool transferSource =
         (capabilities.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT) != 0;
 

@@ -8,10 +8,12 @@
 #include <imgui_impl_vulkan.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <memory>
 #include <optional>
+#include <thread>
 
 #include "core/log.h"
 #include "core/memory.h"
@@ -38,6 +40,9 @@ constexpr int kFramesInFlight = 2;
 // the window (the test mode's last frame: full size, as `daisy render`), at most this often.
 constexpr int kExposureDownscale = 4;
 constexpr double kExposureIntervalSeconds = 0.25;
+// While the solver runs, frames are at least this far apart, so a CPU Vulkan driver (lavapipe)
+// leaves the cores to the solve; the picture still updates at every published iterate.
+constexpr double kSolvingFrameSeconds = 1.0 / 30;
 
 struct Frame {
     VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
@@ -680,6 +685,10 @@ int Viewer::run() {
         if (swapchain_.extent.width != uint32_t(width) ||
             swapchain_.extent.height != uint32_t(height))
             resized_ = true;
+        if (!worker_.idle()) {
+            const double wait = kSolvingFrameSeconds - (clock_.seconds() - last);
+            if (wait > 0) std::this_thread::sleep_for(std::chrono::duration<double>(wait));
+        }
         const double now = clock_.seconds();
         const double dt = now - last;
         last = now;
