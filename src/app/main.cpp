@@ -93,6 +93,16 @@ int main(int argc, char** argv) {
     viewCmd->add_flag("--exercise-window", view.exerciseWindow,
                       "Resize and minimise the window during the frames (tests)");
     viewCmd->add_flag("--panel", view.panel, "Show the panel in the --frames mode too");
+    viewCmd->add_option("--pick", view.pick, "Pick the patch under pixel X,Y as a click would")
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                int x = 0, y = 0;
+                char end = 0;
+                return std::sscanf(text.c_str(), "%d,%d%c", &x, &y, &end) == 2 && x >= 0 && y >= 0
+                    ? std::string()
+                    : "'" + text + "' is not X,Y (pixels)";
+            },
+            "X,Y"));
 
     auto* validateCmd = app.add_subcommand("validate", "Compare a backend's matrix to another's");
     addCommonOptions(*validateCmd, common);

@@ -68,6 +68,7 @@ struct ViewOptions {
     std::vector<std::string> edits;  // --edit NAME.FIELD=VALUE (viewer/material_edit.h)
     bool exerciseWindow = false;  // --exercise-window: resize and minimise (tests)
     bool panel = false;  // --panel: the panel in the --frames mode too
+    std::string pick;  // --pick X,Y: framebuffer pixel to pick, as a click
 };
 
 struct ExportOptions {

@@ -1,6 +1,8 @@
 // `daisy view SCENE` (issue 15, docs/viewer.md): the session (automatic patch size, F from the
 // cache or a backend, the solve), then the viewer (src/viewer/). Options that depend on the scene
 // (--camera, --edit) fail before the view factors.
+#include <cstdio>
+
 #include "app/commands.h"
 #include "app/session_options.h"
 #include "core/interrupt.h"
@@ -65,6 +67,11 @@ int runView(const CommonOptions& options, const ViewOptions& view) {
     settings.exerciseWindow = view.exerciseWindow;
     settings.panel = view.panel;
     settings.wavelengthsText = options.wavelengths;
+    if (!view.pick.empty()) {
+        int x = 0, y = 0;
+        std::sscanf(view.pick.c_str(), "%d,%d", &x, &y);  // CLI11 checked the form
+        settings.pick = std::array<double, 2>{double(x), double(y)};
+    }
     return viewer::runViewer(std::move(*session), settings);
 #else
     (void)options;

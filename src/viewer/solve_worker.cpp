@@ -41,7 +41,10 @@ SolveWorker::SolveWorker(Session session)
       patches_(session_.patches()),
       formFactors_(&session_.formFactors()),
       initialScene_(session_.scene()) {
-    if (session_.hasSolution()) lastGathered_ = session_.solution().gathered;
+    if (session_.hasSolution()) {
+        lastGathered_ = session_.solution().gathered;
+        iteration_ = session_.solution().iterations;
+    }
     publish("", false);
     thread_ = std::thread([this] { run(); });
 }

@@ -169,13 +169,14 @@ void solverControls(UiState& state, const DisplaySnapshot& snapshot, SolveWorker
     }
     char text[128];
     std::snprintf(text, sizeof text, "%s", state.wavelengthsText.c_str());
-    if (ImGui::BeginCombo("preset", nullptr, ImGuiComboFlags_NoPreview)) {
+    if (ImGui::BeginCombo("##preset", nullptr, ImGuiComboFlags_NoPreview)) {
         for (const char* preset : kWavelengthPresets) {
             if (ImGui::Selectable(preset)) std::snprintf(text, sizeof text, "%s", preset);
         }
         ImGui::EndCombo();
     }
     ImGui::SameLine();
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x * 0.6f);
     ImGui::InputText("wavelengths", text, sizeof text);
     state.wavelengthsText = text;
     if (ImGui::Button("apply wavelengths")) {
@@ -243,24 +244,27 @@ void pickedPatch(const UiState& state, const DisplaySnapshot& snapshot, const Sc
     const std::size_t p = *state.picked, m = snapshot.wavelengthCount;
     if (m == 0 || (p + 1) * (m + 4) > snapshot.patchValues.size()) return;
     std::vector<float> radiosity(m), incident(m);
-    float top = 0;
+    float topB = 0, topG = 0;
     for (std::size_t k = 0; k < m; ++k) {
         // patchValues hold radiance L = B / pi (Session::patchChannels).
         radiosity[k] = float(snapshot.patchValues[p * (m + 4) + k] * 3.14159265358979);
         incident[k] = snapshot.gathered.size() == worker.patches().patchCount() * m
             ? float(snapshot.gathered[p * m + k])
             : 0.0f;
-        top = std::max({top, radiosity[k], incident[k]});
+        topB = std::max(topB, radiosity[k]);
+        topG = std::max(topG, incident[k]);
     }
     const uint32_t material = worker.patches().materials[p];
     ImGui::Text("patch %zu, material '%s'", p,
                 material < scene.materials.size() ? scene.materials[material].name.c_str() : "");
     const std::string range = concat(formatNumber(snapshot.wavelengthsNm.front(), 4), "..",
                                      formatNumber(snapshot.wavelengthsNm.back(), 4), " nm");
-    ImGui::PlotLines("B (W m^-2 nm^-1)", radiosity.data(), int(m), 0, range.c_str(), 0,
-                     top * 1.05f + 1e-12f, ImVec2(0, 70));
-    ImGui::PlotLines("incident G = F B", incident.data(), int(m), 0, range.c_str(), 0,
-                     top * 1.05f + 1e-12f, ImVec2(0, 70));
+    ImGui::PlotLines("B", radiosity.data(), int(m), 0, range.c_str(), 0, topB * 1.05f + 1e-12f,
+                     ImVec2(0, 70));
+    ImGui::Text("B(lambda) peak %.3g W m^-2 nm^-1", topB);
+    ImGui::PlotLines("G", incident.data(), int(m), 0, range.c_str(), 0, topG * 1.05f + 1e-12f,
+                     ImVec2(0, 70));
+    ImGui::Text("incident G = F B, peak %.3g W m^-2 nm^-1", topG);
 }
 
 }  // namespace

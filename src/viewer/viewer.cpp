@@ -696,6 +696,15 @@ int Viewer::run() {
         ui_.frameSeconds = smoothedFrame;
         handleInput(dt);
         applyCameraRequest();
+        if (options_.pick && frameNumber == 0) {
+            ui_.picked = pickPatch(worker_.patches(), camera_->camera(), width, height,
+                                   (*options_.pick)[0] + 0.5, (*options_.pick)[1] + 0.5);
+            const std::size_t material =
+                ui_.picked ? worker_.patches().materials[*ui_.picked] : scene_.materials.size();
+            logInfo(ui_.picked ? concat("view: picked patch ", *ui_.picked, " (material '",
+                                        scene_.materials[material].name, "')")
+                               : std::string("view: picked nothing"));
+        }
         // Scripted edits go in after the first frame, as a user's would.
         if (!editsPosted && frameNumber >= 1) {
             editsPosted = true;

@@ -5,6 +5,8 @@
 // whose re-solves run in the background (viewer/solve_worker.h). The test mode (--frames N,
 // --screenshot FILE) draws N frames without the panel, waits for the solves it started, saves the
 // last frame's pixels as a PNG and exits.
+#include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -24,6 +26,8 @@ struct ViewerOptions {
     std::vector<std::string> edits;  // --edit NAME.FIELD=VALUE, applied after the first frame
     bool exerciseWindow = false;  // --exercise-window: resize and minimise during the frames
     bool panel = false;  // --panel: show the panel in the test mode too
+    // --pick X,Y: pick the patch under framebuffer pixel (X, Y) as a click there would (logged)
+    std::optional<std::array<double, 2>> pick;
     std::string wavelengthsText = "auto";  // --wavelengths as typed, for the panel
 };
 

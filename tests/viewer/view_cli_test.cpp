@@ -154,6 +154,20 @@ TEST(ViewCli, ResizingAndMinimisingDoNotCrash) {
     EXPECT_EQ(image->height, 120);
 }
 
+TEST(ViewCli, PickNamesThePatchUnderThePixel) {
+    // The measured camera sees the red wall on the left, the green one on the right and the
+    // light in the ceiling's middle (assets/scenes/cornell_box.gltf, tools/make_cornell_box.py).
+    for (const auto& [pixel, material] :
+         {std::pair<std::string, std::string>{"30,60", "red"}, {"130,60", "green"}}) {
+        const RunResult run = runView(kScene + kSize + " --frames 1 --panel --pick " + pixel);
+        DAISY_VIEW_OR_SKIP(run);
+        ASSERT_EQ(run.status, 0) << run.output;
+        EXPECT_NE(run.output.find("(material '" + material + "')"), std::string::npos)
+            << pixel << "\n"
+            << run.output;
+    }
+}
+
 TEST(ViewCli, RefusedEditSaysWhyAndExitsTwo) {
     // Absorption 1 at every visible wavelength on top of the white walls' reflectance: rho + a
     // exceeds 1 (DESIGN.md section 5), so the session refuses the edit.
