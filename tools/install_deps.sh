@@ -13,6 +13,8 @@ packages=(
     # Vulkan compute and the viewer
     libvulkan-dev libvulkan-volk-dev glslang-tools spirv-tools mesa-vulkan-drivers vulkan-tools
     libglfw3-dev libglm-dev libimgui-dev xvfb xauth
+    # the validation layer for DAISY_VULKAN_VALIDATION=1 runs (docs/viewer.md)
+    vulkan-validationlayers
     # tests and benchmarks
     libgtest-dev libgmock-dev libbenchmark-dev
     # docs plots

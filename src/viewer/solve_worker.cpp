@@ -5,7 +5,9 @@
 #include <utility>
 #include <variant>
 
+#include "core/log.h"
 #include "core/strings.h"
+#include "core/timer.h"
 
 namespace daisy::viewer {
 namespace {
@@ -102,6 +104,7 @@ bool SolveWorker::idle() const {
 }
 
 void SolveWorker::publish(const std::string& message, bool solving) {
+    const Timer timer;
     auto snapshot = std::make_shared<DisplaySnapshot>();
     const WavelengthSet& set = session_.wavelengths();
     snapshot->wavelengthCount = set.size();
@@ -126,6 +129,8 @@ void SolveWorker::publish(const std::string& message, bool solving) {
     snapshot->secondsSinceEdit = editPostedAt_ < 0 ? -1 : steadySeconds() - editPostedAt_;
     snapshot->version = ++version_;
     latest_ = std::move(snapshot);
+    logVerbose(concat("view: published iterate ", iteration_, " in ",
+                      formatNumber(timer.seconds() * 1e3, 3), " ms"));
 }
 
 void SolveWorker::solve(bool bounce) {

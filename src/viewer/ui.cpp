@@ -292,7 +292,8 @@ void initUi(UiState& state, const Scene& scene, const std::string& wavelengthsTe
 void drawPanel(UiState& state, const DisplaySnapshot& snapshot, SolveWorker& worker,
                const Scene& scene) {
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-    ImGui::SetNextWindowSize(ImVec2(400, 600), ImGuiCond_FirstUseEver);
+    const float height = std::max(ImGui::GetIO().DisplaySize.y - 16, 200.0f);
+    ImGui::SetNextWindowSize(ImVec2(400, std::min(height, 900.0f)), ImGuiCond_FirstUseEver);
     ImGui::Begin("DaisyRiot");
     statistics(state, snapshot, worker, scene);
     if (ImGui::CollapsingHeader("view", ImGuiTreeNodeFlags_DefaultOpen))

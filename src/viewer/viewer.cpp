@@ -470,8 +470,12 @@ void Viewer::updateExposure(const DisplaySnapshot& snapshot, bool exact) {
         ui_.appliedEv = ui_.ev;
         return;
     }
-    const bool current = exposureVersion_ == snapshot.version && exposureCamera_ &&
-        sameCamera(*exposureCamera_, camera_->camera()) && (exposureExact_ || !exact);
+    const bool sameView = exposureCamera_ && sameCamera(*exposureCamera_, camera_->camera());
+    // While a solve converges the exposure stays (no flicker, and no ray cast between an edit
+    // and its first image); it is measured again when the solve ends or the view moves.
+    const bool current = sameView &&
+        ((exposureVersion_ == snapshot.version && (exposureExact_ || !exact)) ||
+         (snapshot.solving && !exact));
     if (current) return;
     const double now = clock_.seconds();
     if (!exact && exposureAt_ >= 0 && now - exposureAt_ < kExposureIntervalSeconds) return;
