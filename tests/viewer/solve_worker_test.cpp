@@ -1,0 +1,137 @@
+// The viewer's background solver (viewer/solve_worker.h) against the session solving directly:
+// edits re-solved in the background, cancelled by newer ones, must converge to what a fresh
+// session with the same materials gives; a bounce step must be exactly one Jacobi step
+// B = E + M F B from the reset B = E (the radiosity equation, DESIGN.md section 2).
+#if DAISY_HAVE_VIEWER
+#include "viewer/solve_worker.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "core/strings.h"
+#include "verify/scenes.h"
+
+namespace daisy::viewer {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+Scene room() {
+    Scene scene;
+    scene.path = "room";
+    verify::addRoom(scene.mesh, {0, 0, 0}, {1, 1, 1}, 3);  // face f has material f
+    for (int face = 0; face < 6; ++face) {
+        Material material;
+        material.name = concat("face", face);
+        material.origin = concat("room: material ", face);
+        scene.materials.push_back(material);
+    }
+    scene.materials[1].spectral.emission = SpectrumSpec{PresetSpectrum{"D65"}, 1.0};
+    return scene;
+}
+
+Session solvedRoom(const std::vector<std::pair<std::size_t, Material>>& edits = {}) {
+    SessionSettings settings;
+    settings.backend = "cpu";
+    settings.subdivideMaxEdge = 0;
+    settings.formFactors.progress = false;
+    settings.logStages = false;
+    settings.wavelengths.preset = "daisyriot";
+    settings.solver.tolerance = 1e-8;
+    auto session = Session::fromScene(room(), settings);
+    EXPECT_TRUE(session.ok()) << session.error().message;
+    for (const auto& [index, material] : edits)
+        EXPECT_TRUE(session->setMaterial(index, material).ok());
+    EXPECT_TRUE(session->solve().ok());
+    return std::move(*session);
+}
+
+Material withReflectance(Material material, std::array<double, 3> rgb) {
+    material.spectral.reflectance = SpectrumSpec{RgbSpectrum{rgb}, 1.0};
+    return material;
+}
+
+void waitIdle(const SolveWorker& worker) {
+    for (int k = 0; k < 3000 && !worker.idle(); ++k)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    ASSERT_TRUE(worker.idle()) << "the worker did not finish within 30 s";
+}
+
+TEST(SolveWorker, EditsCancelledByNewerOnesConvergeToTheDirectSolve) {
+    const Scene scene = room();
+    const Material green = withReflectance(scene.materials[0], {0.1, 0.8, 0.1});
+    const Material dark = withReflectance(scene.materials[2], {0.2, 0.2, 0.2});
+    SolveWorker worker(solvedRoom());
+    // Posted back to back: the first edit's solve is cancelled by the second edit.
+    worker.setMaterial(0, withReflectance(scene.materials[0], {0.9, 0.1, 0.1}));
+    worker.setMaterial(0, green);
+    worker.setMaterial(2, dark);
+    waitIdle(worker);
+    const auto snapshot = worker.latest();
+    EXPECT_FALSE(snapshot->solving);
+    EXPECT_TRUE(snapshot->converged);
+    EXPECT_EQ(snapshot->refusedEdits, 0);
+
+    const Session direct = solvedRoom({{0, green}, {2, dark}});
+    const std::vector<float> expected = direct.patchChannels(true);
+    ASSERT_EQ(snapshot->patchValues.size(), expected.size());
+    double worst = 0, largest = 0;
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+        worst = std::max(worst, double(std::abs(snapshot->patchValues[k] - expected[k])));
+        largest = std::max(largest, double(std::abs(expected[k])));
+    }
+    EXPECT_LT(worst, 1e-5 * largest);
+}
+
+TEST(SolveWorker, OneBounceFromEmissionIsOneJacobiStep) {
+    Session session = solvedRoom();
+    const RadiositySystem system = session.system();
+    SolveWorker worker(std::move(session));
+    worker.resetToEmission();
+    waitIdle(worker);
+    worker.stepBounce();
+    waitIdle(worker);
+    const auto snapshot = worker.latest();
+    EXPECT_EQ(snapshot->iteration, 1);
+    const std::size_t n = system.patchCount, m = system.wavelengthCount;
+    const SparseMatrix& f = worker.formFactors();
+    double worst = 0, largest = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        const MaterialOperator& op = system.operators[system.patchOperator[i]];
+        for (std::size_t k = 0; k < m; ++k) {
+            double gathered = 0;
+            const auto columns = f.rowColumns(i);
+            const auto values = f.rowValues(i);
+            for (std::size_t e = 0; e < columns.size(); ++e)
+                gathered += values[e] * system.emission[columns[e] * m + k];
+            const double b = system.emission[i * m + k] + op.diagonal[k] * gathered;
+            // patchValues: radiance L = B / pi per sample (Session::patchChannels).
+            const double shown = kPi * snapshot->patchValues[i * (m + 4) + k];
+            worst = std::max(worst, std::abs(shown - b));
+            largest = std::max(largest, b);
+        }
+    }
+    EXPECT_GT(largest, 0);
+    EXPECT_LT(worst, 1e-5 * largest);
+}
+
+TEST(SolveWorker, RefusedEditKeepsTheMaterialAndSaysWhy) {
+    const Scene scene = room();
+    SolveWorker worker(solvedRoom());
+    Material bad = scene.materials[3];
+    bad.spectral.reflectance = SpectrumSpec{TabulatedSpectrum{{400, 700}, {1.5, 1.5}}, 1.0};
+    worker.setMaterial(3, bad);
+    waitIdle(worker);
+    const auto snapshot = worker.latest();
+    EXPECT_EQ(snapshot->refusedEdits, 1);
+    EXPECT_NE(snapshot->message.find("edit refused"), std::string::npos) << snapshot->message;
+    EXPECT_NE(snapshot->message.find("face3"), std::string::npos) << snapshot->message;
+    EXPECT_FALSE(snapshot->materials[3].spectral.reflectance.has_value());
+}
+
+}  // namespace
+}  // namespace daisy::viewer
+#endif
