@@ -93,6 +93,9 @@ int main(int argc, char** argv) {
     viewCmd->add_flag("--exercise-window", view.exerciseWindow,
                       "Resize and minimise the window during the frames (tests)");
     viewCmd->add_flag("--panel", view.panel, "Show the panel in the --frames mode too");
+    viewCmd->add_option(
+        "--display", view.display,
+        "colour | luminance | wavelength:NM, and flat, wireframe (comma-separated)");
     viewCmd->add_option("--pick", view.pick, "Pick the patch under pixel X,Y as a click would")
         ->check(CLI::Validator(
             [](std::string& text) {

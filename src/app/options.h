@@ -69,6 +69,7 @@ struct ViewOptions {
     bool exerciseWindow = false;  // --exercise-window: resize and minimise (tests)
     bool panel = false;  // --panel: the panel in the --frames mode too
     std::string pick;  // --pick X,Y: framebuffer pixel to pick, as a click
+    std::string display;  // --display colour|luminance|wavelength:NM,flat,wireframe
 };
 
 struct ExportOptions {

@@ -12,6 +12,7 @@
 #include "image/exposure.h"
 
 #if DAISY_HAVE_VIEWER
+#include "viewer/display_values.h"
 #include "viewer/material_edit.h"
 #include "viewer/viewer.h"
 #endif
@@ -24,6 +25,12 @@ int runView(const CommonOptions& options, const ViewOptions& view) {
     if (!exposure) {
         logError(concat("--exposure: ", exposure.error().message));
         return 2;
+    }
+    if (!view.display.empty()) {
+        if (auto display = viewer::parseDisplay(view.display); !display) {
+            logError(display.error().message);
+            return 2;
+        }
     }
     std::vector<viewer::MaterialEdit> edits;
     for (const std::string& text : view.edits) {
@@ -67,6 +74,7 @@ int runView(const CommonOptions& options, const ViewOptions& view) {
     settings.exerciseWindow = view.exerciseWindow;
     settings.panel = view.panel;
     settings.wavelengthsText = options.wavelengths;
+    settings.display = view.display;
     if (!view.pick.empty()) {
         int x = 0, y = 0;
         std::sscanf(view.pick.c_str(), "%d,%d", &x, &y);  // CLI11 checked the form

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+
+#include "core/strings.h"
 
 namespace daisy::viewer {
 
@@ -38,6 +41,49 @@ FalseRange displayValues(const DisplaySnapshot& snapshot, const DisplaySettings&
     range.lo = std::max(std::log10(double(smallest)), range.hi - 4);
     if (range.hi - range.lo < 1e-3) range.lo = range.hi - 1;
     return range;
+}
+
+Expected<DisplayChoice> parseDisplay(const std::string& text) {
+    DisplayChoice choice;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        const std::string word = text.substr(start, comma - start);
+        start = comma + 1;
+        if (word == "colour" || word == "color") {
+            choice.settings.quantity = DisplayQuantity::Colour;
+        } else if (word == "luminance") {
+            choice.settings.quantity = DisplayQuantity::Luminance;
+        } else if (word == "flat") {
+            choice.settings.smooth = false;
+        } else if (word == "smooth") {
+            choice.settings.smooth = true;
+        } else if (word == "wireframe") {
+            choice.wireframe = true;
+        } else if (word.rfind("wavelength:", 0) == 0) {
+            const std::string number = word.substr(11);
+            char* end = nullptr;
+            const double nm = std::strtod(number.c_str(), &end);
+            if (number.empty() || *end != '\0' || !std::isfinite(nm) || nm <= 0) {
+                return Error{concat("--display: '", word, "' is not wavelength:NM")};
+            }
+            choice.settings.quantity = DisplayQuantity::Wavelength;
+            choice.wavelengthNm = nm;
+        } else {
+            return Error{concat("--display: '", word,
+                                "' is not one of colour, luminance, wavelength:NM, flat, smooth, "
+                                "wireframe")};
+        }
+    }
+    return choice;
+}
+
+std::size_t nearestSample(const std::vector<double>& wavelengthsNm, double nm) {
+    std::size_t best = 0;
+    for (std::size_t k = 1; k < wavelengthsNm.size(); ++k) {
+        if (std::abs(wavelengthsNm[k] - nm) < std::abs(wavelengthsNm[best] - nm)) best = k;
+    }
+    return best;
 }
 
 }  // namespace daisy::viewer

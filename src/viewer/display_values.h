@@ -3,8 +3,11 @@
 // radiance for the colour view, and one scalar for false colour (luminance Y, or the radiance at
 // one wavelength sample, UV samples included), smooth (the per-corner vertex radiance that
 // `daisy render` interpolates) or flat (each patch's own value).
+#include <optional>
+#include <string>
 #include <vector>
 
+#include "core/expected.h"
 #include "viewer/solve_worker.h"
 
 namespace daisy::viewer {
@@ -33,5 +36,17 @@ struct FalseRange {
 // decade span from the largest scalar down to the smallest positive one, at most 4 decades.
 FalseRange displayValues(const DisplaySnapshot& snapshot, const DisplaySettings& settings,
                          std::vector<float>& values);
+
+// `--display LIST`: comma-separated words, each setting one control of the panel's view section:
+// colour | luminance | wavelength:NM (the sample nearest NM) | flat | smooth | wireframe.
+struct DisplayChoice {
+    DisplaySettings settings;
+    bool wireframe = false;
+    std::optional<double> wavelengthNm;  // resolved by nearestSample
+};
+Expected<DisplayChoice> parseDisplay(const std::string& text);
+
+// The index of the sample nearest `nm` (the first of two equally near); 0 for an empty list.
+std::size_t nearestSample(const std::vector<double>& wavelengthsNm, double nm);
 
 }  // namespace daisy::viewer

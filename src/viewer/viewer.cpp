@@ -210,6 +210,21 @@ int Viewer::open() {
             return 2;
         }
     }
+    if (!options_.display.empty()) {
+        auto display = parseDisplay(options_.display);
+        if (!display) {
+            logError(display.error().message);
+            return 2;
+        }
+        ui_.display = display->settings;
+        ui_.wireframe = display->wireframe;
+        if (display->wavelengthNm) {
+            const std::vector<double>& samples = worker_.latest()->wavelengthsNm;
+            ui_.display.wavelengthIndex = nearestSample(samples, *display->wavelengthNm);
+            logInfo(concat("view: false colour of the radiance at the sample ",
+                           formatNumber(samples[ui_.display.wavelengthIndex], 4), " nm"));
+        }
+    }
     pendingEdits_ = options_.edits;
     startCamera_ = *chosen;
     startCamera_.aspectRatio = 0;

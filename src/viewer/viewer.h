@@ -28,6 +28,7 @@ struct ViewerOptions {
     bool panel = false;  // --panel: show the panel in the test mode too
     // --pick X,Y: pick the patch under framebuffer pixel (X, Y) as a click there would (logged)
     std::optional<std::array<double, 2>> pick;
+    std::string display;  // --display (viewer/display_values.h parseDisplay); empty = colour
     std::string wavelengthsText = "auto";  // --wavelengths as typed, for the panel
 };
 

@@ -8,6 +8,7 @@
 #include <cstdlib>
 
 #include "image/image_io.h"
+#include "shared/viewer_types.h"
 #include "spectral/color.h"
 #include "test_util.h"
 
@@ -152,6 +153,36 @@ TEST(ViewCli, ResizingAndMinimisingDoNotCrash) {
     // The window came back to the size asked for after being shrunk, minimised and enlarged.
     EXPECT_EQ(image->width, 160);
     EXPECT_EQ(image->height, 120);
+}
+
+TEST(ViewCli, FalseColourPutsTheLightAtTheTopOfTheRamp) {
+    const auto dir = test::testTempDir();
+    const std::string png = (dir / "luminance.png").string();
+    const RunResult run =
+        runView(kScene + kSize + " --frames 2 --display luminance --screenshot " + png);
+    DAISY_VIEW_OR_SKIP(run);
+    ASSERT_EQ(run.status, 0) << run.output;
+    auto image = readPng(png);
+    ASSERT_TRUE(image) << image.error().message;
+    // The automatic range ends at the largest luminance, the light's (emitters are not smoothed
+    // across the material boundary): its pixels are the ramp's last stop, and only they are.
+    const shared::vec3 top = shared::falseColour(1.0f);
+    int lit = 0, lowest = 0;
+    for (int y = 0; y < image->height; ++y) {
+        for (int x = 0; x < image->width; ++x) {
+            const float* p = image->at(x, y);
+            if (std::abs(p[0] - 255 * top.x) <= 2 && std::abs(p[1] - 255 * top.y) <= 2 &&
+                std::abs(p[2] - 255 * top.z) <= 2) {
+                ++lit;
+                lowest = std::max(lowest, y);
+            }
+        }
+    }
+    EXPECT_GE(lit, 20);
+    EXPECT_LT(lowest, image->height / 5) << "the light is in the ceiling";
+    const RunResult bad = runView(kScene + " --display infrared");
+    EXPECT_EQ(bad.status, 2) << bad.output;
+    EXPECT_NE(bad.output.find("'infrared' is not one of"), std::string::npos) << bad.output;
 }
 
 TEST(ViewCli, PickNamesThePatchUnderThePixel) {
