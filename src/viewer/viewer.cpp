@@ -50,6 +50,12 @@ struct Frame {
     VkFence fence = VK_NULL_HANDLE;
 };
 
+// What the GLFW callbacks saw since the loop last looked (Dear ImGui's back-end chains to them).
+struct InputEvents {
+    double scroll = 0;
+    bool activity = false;  // any input or window event: the picture may change
+};
+
 // The automatic exposure of the view (image/exposure.h autoExposureScale, as `daisy render`
 // applies it) measured on a ray-cast image of the snapshot's smooth corner values.
 double measureExposure(const PatchMesh& mesh, const Camera& camera, const DisplaySnapshot& snapshot,
@@ -99,6 +105,7 @@ private:
     void initImgui();
     bool recreateSwapchain();
     void handleInput(double dt);
+    bool heldKey() const;  // a movement key is down (fly keys move every frame)
     void applyCameraRequest();
     void updateValues(int frame, const DisplaySnapshot& snapshot);
     void updateExposure(const DisplaySnapshot& snapshot, bool exact);
@@ -144,23 +151,42 @@ private:
     double firstImageSeconds_ = -1, convergedSeconds_ = -1;
     uint64_t shownVersion_ = 0;  // the snapshot the last frame drew
     bool shownSolving_ = false;
+    double shownSinceEdit_ = -1;  // the shown snapshot's age of the edit when published
+    double firstPublishedSeconds_ = -1, convergedPublishedSeconds_ = -1;
 
     double exposureScale_ = 1;
     bool exposureExact_ = false;
     uint64_t exposureVersion_ = 0;
     std::optional<Camera> exposureCamera_;
     double exposureAt_ = -1;
+    bool exposurePending_ = false;
     Timer clock_;
 
     double lastMouseX_ = 0, lastMouseY_ = 0, pressX_ = 0, pressY_ = 0;
     bool dragging_ = false;
-    double scroll_ = 0;
+    InputEvents events_;
+    int settleFrames_ = 0;  // frames still to draw after the last input (Dear ImGui's hover)
     bool f12Down_ = false, rDown_ = false, cDown_ = false, fDown_ = false, tabDown_ = false;
 };
 
-void onScroll(GLFWwindow* window, double, double y) {
-    auto* scroll = static_cast<double*>(glfwGetWindowUserPointer(window));
-    if (scroll) *scroll += y;
+InputEvents& eventsOf(GLFWwindow* window) {
+    return *static_cast<InputEvents*>(glfwGetWindowUserPointer(window));
+}
+
+void installEventCallbacks(GLFWwindow* window) {
+    glfwSetScrollCallback(window, [](GLFWwindow* w, double, double y) {
+        eventsOf(w).scroll += y;
+        eventsOf(w).activity = true;
+    });
+    glfwSetCursorPosCallback(window,
+                             [](GLFWwindow* w, double, double) { eventsOf(w).activity = true; });
+    glfwSetMouseButtonCallback(window,
+                               [](GLFWwindow* w, int, int, int) { eventsOf(w).activity = true; });
+    glfwSetKeyCallback(window,
+                       [](GLFWwindow* w, int, int, int, int) { eventsOf(w).activity = true; });
+    glfwSetCharCallback(window, [](GLFWwindow* w, unsigned int) { eventsOf(w).activity = true; });
+    glfwSetWindowFocusCallback(window, [](GLFWwindow* w, int) { eventsOf(w).activity = true; });
+    glfwSetWindowRefreshCallback(window, [](GLFWwindow* w) { eventsOf(w).activity = true; });
 }
 
 Viewer::~Viewer() {
@@ -255,8 +281,8 @@ int Viewer::open() {
         logError("daisy view: cannot create a window");
         return 1;
     }
-    glfwSetWindowUserPointer(window_, &scroll_);
-    glfwSetScrollCallback(window_, onScroll);
+    glfwSetWindowUserPointer(window_, &events_);
+    installEventCallbacks(window_);
 
     uint32_t extensionCount = 0;
     const char** extensions = glfwGetRequiredInstanceExtensions(&extensionCount);
@@ -399,6 +425,13 @@ bool pressed(GLFWwindow* window, int key, bool& down) {
     return edge;
 }
 
+bool Viewer::heldKey() const {
+    for (int key : {GLFW_KEY_W, GLFW_KEY_A, GLFW_KEY_S, GLFW_KEY_D, GLFW_KEY_Q, GLFW_KEY_E}) {
+        if (glfwGetKey(window_, key) == GLFW_PRESS) return true;
+    }
+    return false;
+}
+
 void Viewer::handleInput(double dt) {
     const bool mouseTaken = imgui_ && showPanel_ && ImGui::GetIO().WantCaptureMouse;
     const bool keysTaken = imgui_ && showPanel_ && ImGui::GetIO().WantCaptureKeyboard;
@@ -431,9 +464,9 @@ void Viewer::handleInput(double dt) {
                 std::tan(0.5 * camera_->camera().yFovRad) / std::max(windowHeight, 1);
             camera_->pan(-dx * perPixel, dy * perPixel);
         }
-        if (scroll_ != 0) camera_->dolly(0.1 * scroll_);
+        if (events_.scroll != 0) camera_->dolly(0.1 * events_.scroll);
     }
-    scroll_ = 0;
+    events_.scroll = 0;
     if (!left && dragging_) {
         dragging_ = false;
         if (!mouseTaken && std::abs(x - pressX_) < 3 && std::abs(y - pressY_) < 3) {
@@ -491,9 +524,13 @@ void Viewer::updateExposure(const DisplaySnapshot& snapshot, bool exact) {
     const bool current = sameView &&
         ((exposureVersion_ == snapshot.version && (exposureExact_ || !exact)) ||
          (snapshot.solving && !exact));
+    exposurePending_ = false;
     if (current) return;
     const double now = clock_.seconds();
-    if (!exact && exposureAt_ >= 0 && now - exposureAt_ < kExposureIntervalSeconds) return;
+    if (!exact && exposureAt_ >= 0 && now - exposureAt_ < kExposureIntervalSeconds) {
+        exposurePending_ = true;  // measured at a later frame: keep drawing until then
+        return;
+    }
     const int divisor = exact ? 1 : kExposureDownscale;
     exposureScale_ = measureExposure(worker_.patches(), camera_->camera(), snapshot,
                                      int(swapchain_.extent.width) / divisor,
@@ -525,6 +562,7 @@ bool Viewer::drawFrame(bool capture) {
     updateValues(frame_, *snapshot);
     shownVersion_ = snapshot->version;
     shownSolving_ = snapshot->solving;
+    shownSinceEdit_ = snapshot->secondsSinceEdit;
     updateExposure(*snapshot, capture && options_.frames > 0);
 
     if (imgui_) {
@@ -636,7 +674,7 @@ bool Viewer::drawFrame(bool capture) {
     if (copy) VK_CHECK(vkWaitForFences(context_.device, 1, &frame.fence, VK_TRUE, UINT64_MAX));
     frame_ = (frame_ + 1) % kFramesInFlight;
     ++framesDrawn_;
-    return copy || !capture;
+    return true;
 }
 
 Expected<void> Viewer::writeCapture(const std::string& path) {
@@ -679,13 +717,21 @@ void Viewer::exerciseWindow(int frame) {
 void Viewer::trackEdit() {
     if (editPostedAt_ < 0 || shownVersion_ <= editVersion_) return;
     const double since = clock_.seconds() - editPostedAt_;
-    if (firstImageSeconds_ < 0) firstImageSeconds_ = since;
-    if (convergedSeconds_ < 0 && !shownSolving_ && worker_.idle()) convergedSeconds_ = since;
+    if (firstImageSeconds_ < 0) {
+        firstImageSeconds_ = since;
+        firstPublishedSeconds_ = shownSinceEdit_;
+    }
+    if (convergedSeconds_ < 0 && !shownSolving_ && worker_.idle()) {
+        convergedSeconds_ = since;
+        convergedPublishedSeconds_ = shownSinceEdit_;
+    }
 }
 
 int Viewer::run() {
     double last = clock_.seconds();
     double smoothedFrame = 0;
+    double titleAt = -1;
+    bool minimisedLogged = false;
     int frameNumber = 0;
     bool editsPosted = false;
     while (!glfwWindowShouldClose(window_)) {
@@ -694,6 +740,8 @@ int Viewer::run() {
         glfwGetFramebufferSize(window_, &width, &height);
         if (width == 0 || height == 0) {
             // Minimised: nothing to draw into; wait for the window to come back.
+            if (!minimisedLogged) logVerbose("view: minimised (framebuffer 0 x 0)");
+            minimisedLogged = true;
             glfwWaitEventsTimeout(0.05);
             if (options_.frames > 0) {
                 ++frameNumber;
@@ -704,15 +752,27 @@ int Viewer::run() {
         if (swapchain_.extent.width != uint32_t(width) ||
             swapchain_.extent.height != uint32_t(height))
             resized_ = true;
+        // Draw only when the picture can change: input, a new iterate, a resize, or the test
+        // mode counting its frames. Otherwise wait for an event (or the next iterate), leaving
+        // the cores to the solver and to other programs.
+        const bool held = dragging_ || heldKey();
+        const bool active = events_.activity || held;
+        events_.activity = false;
+        settleFrames_ = active ? 3 : settleFrames_ - 1;
+        const bool fresh = worker_.latest()->version != shownVersion_;
+        const bool counting = options_.frames > 0 && worker_.idle();
+        if (settleFrames_ <= 0 && !fresh && !resized_ && !counting && !ui_.screenshotRequest &&
+            !exposurePending_ && frameNumber > 0) {
+            glfwWaitEventsTimeout(worker_.idle() ? 0.25 : kSolvingFrameSeconds);
+            continue;
+        }
         if (!worker_.idle()) {
             const double wait = kSolvingFrameSeconds - (clock_.seconds() - last);
             if (wait > 0) std::this_thread::sleep_for(std::chrono::duration<double>(wait));
         }
         const double now = clock_.seconds();
-        const double dt = now - last;
+        const double dt = std::min(now - last, 0.1);  // movement per frame, bounded after waits
         last = now;
-        smoothedFrame = smoothedFrame == 0 ? dt : 0.9 * smoothedFrame + 0.1 * dt;
-        ui_.frameSeconds = smoothedFrame;
         handleInput(dt);
         applyCameraRequest();
         if (options_.pick && frameNumber == 0) {
@@ -747,12 +807,20 @@ int Viewer::run() {
         const bool capture =
             ui_.screenshotRequest || (finalFrame && !options_.screenshotPath.empty());
         const bool drawn = drawFrame(capture);
+        // The frame's own time (record, submit, the wait for the frame before last): the frame
+        // period when drawing continuously.
+        const double work = clock_.seconds() - now;
+        smoothedFrame = smoothedFrame == 0 ? work : 0.9 * smoothedFrame + 0.1 * work;
+        ui_.frameSeconds = smoothedFrame;
         ++frameNumber;
         if (options_.exerciseWindow) exerciseWindow(frameNumber);
-        glfwSetWindowTitle(
-            window_,
-            concat("daisy view - ", scene_.path, " - ", formatNumber(smoothedFrame * 1e3, 3), " ms")
-                .c_str());
+        if (now - titleAt >= 0.25) {
+            titleAt = now;
+            glfwSetWindowTitle(window_,
+                               concat("daisy view - ", scene_.path, " - ",
+                                      formatNumber(smoothedFrame * 1e3, 3), " ms")
+                                   .c_str());
+        }
         if (capture && drawn) {
             const std::string path = ui_.screenshotRequest && !finalFrame
                 ? concat("daisy_view_", framesDrawn_, ".png")
@@ -780,12 +848,14 @@ int Viewer::run() {
                            " x ", swapchain_.extent.height, "; peak memory ",
                            formatBytes(double(peakResidentBytes()))));
             if (!options_.edits.empty()) {
-                logInfo(concat("view: edit -> first updated frame ",
-                               formatNumber(firstImageSeconds_ * 1e3, 3), " ms, converged frame ",
-                               formatNumber(convergedSeconds_ * 1e3, 3), " ms (",
-                               snapshot->iteration, " iterations, residual ",
-                               formatNumber(snapshot->residual, 3), ")",
-                               snapshot->message.empty() ? "" : concat("; ", snapshot->message)));
+                logInfo(concat(
+                    "view: edit -> first updated frame ", formatNumber(firstImageSeconds_ * 1e3, 3),
+                    " ms (its iterate ready at ", formatNumber(firstPublishedSeconds_ * 1e3, 3),
+                    " ms), converged frame ", formatNumber(convergedSeconds_ * 1e3, 3),
+                    " ms (solution ready at ", formatNumber(convergedPublishedSeconds_ * 1e3, 3),
+                    " ms; ", snapshot->iteration, " iterations, residual ",
+                    formatNumber(snapshot->residual, 3), ")",
+                    snapshot->message.empty() ? "" : concat("; ", snapshot->message)));
             }
             if (snapshot->refusedEdits > 0) {
                 logError(concat("daisy view: ", snapshot->refusedEdits,
