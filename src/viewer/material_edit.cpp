@@ -1,6 +1,8 @@
 #include "viewer/material_edit.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <variant>
 
 #include <nlohmann/json.hpp>
 
@@ -70,6 +72,81 @@ Expected<std::vector<std::size_t>> editTargets(const Scene& scene, const Materia
 Material applyEdit(Material material, const MaterialEdit& edit) {
     mergeExtension(material.spectral, edit.extension);
     return material;
+}
+
+Material materialFromDraft(const Material& base, const MaterialDraft& draft) {
+    Material material = base;
+    if (draft.spectralReflectance) {
+        TabulatedSpectrum points;
+        for (std::size_t k = 0; k < kControlPointsNm.size(); ++k) {
+            points.wavelengthsNm.push_back(kControlPointsNm[k]);
+            points.values.push_back(draft.reflectancePoints[k]);
+        }
+        material.spectral.reflectance = SpectrumSpec{points, 1.0};
+    } else {
+        RgbSpectrum rgb;
+        for (std::size_t c = 0; c < 3; ++c)
+            rgb.rgb[c] = draft.reflectanceRgb[c];
+        material.spectral.reflectance = SpectrumSpec{rgb, 1.0};
+    }
+    const auto pick = [](const auto& names, int index) {
+        return names[std::size_t(std::clamp(index, 0, int(names.size()) - 1))];
+    };
+    switch (draft.emissionKind) {
+        case 1:
+            material.spectral.emission = SpectrumSpec{RgbSpectrum{}, 0.0};
+            material.emissiveRgb = {0, 0, 0};
+            break;
+        case 2:
+            material.spectral.emission = SpectrumSpec{
+                PresetSpectrum{pick(kEmissionPresets, draft.emissionPreset)}, draft.emissionScale};
+            break;
+        case 3:
+            material.spectral.emission =
+                SpectrumSpec{BlackbodySpectrum{draft.blackbodyK}, draft.emissionScale};
+            break;
+        default:
+            break;
+    }
+    switch (draft.fluorescenceKind) {
+        case 1:
+            material.spectral.fluorescence.reset();
+            break;
+        case 2:
+            material.spectral.fluorescence =
+                FluorophorePreset{pick(kFluorophorePresets, draft.fluorescencePreset)};
+            break;
+        case 3: {
+            FluorescenceParams params;
+            params.absorption =
+                SpectrumSpec{GaussianSpectrum{draft.absorptionPeakNm, draft.absorptionFwhmNm},
+                             draft.absorptionScale};
+            params.emission =
+                SpectrumSpec{GaussianSpectrum{draft.emissionPeakNm, draft.emissionFwhmNm}, 1.0};
+            params.quantumYield = draft.quantumYield;
+            material.spectral.fluorescence = params;
+            break;
+        }
+        default:
+            break;
+    }
+    return material;
+}
+
+MaterialDraft draftOf(const Material& material) {
+    MaterialDraft draft;
+    for (std::size_t c = 0; c < 3; ++c)
+        draft.reflectanceRgb[c] = float(material.baseColor[c]);
+    if (material.spectral.reflectance) {
+        if (const auto* rgb = std::get_if<RgbSpectrum>(&material.spectral.reflectance->shape)) {
+            for (std::size_t c = 0; c < 3; ++c)
+                draft.reflectanceRgb[c] = float(rgb->rgb[c]);
+        }
+    }
+    const float mean =
+        (draft.reflectanceRgb[0] + draft.reflectanceRgb[1] + draft.reflectanceRgb[2]) / 3;
+    draft.reflectancePoints.fill(mean);
+    return draft;
 }
 
 }  // namespace daisy::viewer

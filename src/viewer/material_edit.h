@@ -7,6 +7,7 @@
 //     Paper.fluorescence={"preset": "fluorescein"}
 // The value is checked by the scene loader's own parser (scene/material_extension.h); the physical
 // check (reflectance + absorption <= 1) is Session::setMaterial's.
+#include <array>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -32,5 +33,36 @@ Expected<std::vector<std::size_t>> editTargets(const Scene& scene, const Materia
 
 // `material` with the edit's member overlaid (scene/material.h mergeExtension).
 Material applyEdit(Material material, const MaterialEdit& edit);
+
+// The editor's controls for one material.
+struct MaterialDraft {
+    std::array<float, 3> reflectanceRgb{0.8f, 0.8f, 0.8f};
+    bool spectralReflectance = false;  // control points instead of RGB
+    std::array<float, 8> reflectancePoints{};  // at kControlPointsNm
+    int emissionKind = 0;  // 0 as loaded, 1 none, 2 preset, 3 blackbody
+    int emissionPreset = 0;
+    float blackbodyK = 3000;
+    float emissionScale = 1;
+    int fluorescenceKind = 0;  // 0 as loaded, 1 none, 2 preset, 3 parameters
+    int fluorescencePreset = 0;
+    float absorptionPeakNm = 365, absorptionFwhmNm = 40, absorptionScale = 0.5f;
+    float emissionPeakNm = 450, emissionFwhmNm = 50, quantumYield = 0.8f;
+};
+
+// The wavelengths of MaterialDraft::reflectancePoints, nm.
+inline constexpr std::array<double, 8> kControlPointsNm = {350, 400, 450, 500, 550, 600, 650, 700};
+// The names the draft's preset indices choose from.
+inline constexpr std::array<const char*, 6> kEmissionPresets = {"D65", "D50", "A",
+                                                                "F2",  "F11", "blacklight"};
+inline constexpr std::array<const char*, 4> kFluorophorePresets = {"brightener", "fluorescein",
+                                                                   "rhodamine6g", "neon"};
+
+// The material `draft` describes over the scene's material `base`: the reflectance always (RGB or
+// the control points, piecewise linear), emission and fluorescence unless "as loaded".
+Material materialFromDraft(const Material& base, const MaterialDraft& draft);
+
+// A draft showing `material` as loaded (its RGB or spectral RGB reflectance; the control points
+// at the RGB's mean).
+MaterialDraft draftOf(const Material& material);
 
 }  // namespace daisy::viewer

@@ -9,71 +9,12 @@
 #include "core/strings.h"
 #include "shared/viewer_types.h"
 #include "spectral/wavelength_spec.h"
+#include "viewer/material_edit.h"
 
 namespace daisy::viewer {
 namespace {
 
-constexpr float kControlPointsNm[8] = {350, 400, 450, 500, 550, 600, 650, 700};
-const char* const kIlluminants[] = {"D65", "D50", "A", "F2", "F11", "blacklight"};
-const char* const kFluorophores[] = {"brightener", "fluorescein", "rhodamine6g", "neon"};
 const char* const kWavelengthPresets[] = {"auto", "visible", "daisyriot", "meyer4", "fine"};
-
-// The material `draft` describes, over the scene's material `base`.
-Material buildMaterial(const Material& base, const MaterialDraft& draft) {
-    Material material = base;
-    if (draft.spectralReflectance) {
-        TabulatedSpectrum points;
-        for (int k = 0; k < 8; ++k) {
-            points.wavelengthsNm.push_back(kControlPointsNm[k]);
-            points.values.push_back(draft.reflectancePoints[std::size_t(k)]);
-        }
-        material.spectral.reflectance = SpectrumSpec{points, 1.0};
-    } else {
-        RgbSpectrum rgb;
-        for (int c = 0; c < 3; ++c)
-            rgb.rgb[std::size_t(c)] = draft.reflectanceRgb[std::size_t(c)];
-        material.spectral.reflectance = SpectrumSpec{rgb, 1.0};
-    }
-    switch (draft.emissionKind) {
-        case 1:
-            material.spectral.emission = SpectrumSpec{RgbSpectrum{}, 0.0};
-            material.emissiveRgb = {0, 0, 0};
-            break;
-        case 2:
-            material.spectral.emission = SpectrumSpec{
-                PresetSpectrum{kIlluminants[draft.emissionPreset]}, draft.emissionScale};
-            break;
-        case 3:
-            material.spectral.emission =
-                SpectrumSpec{BlackbodySpectrum{draft.blackbodyK}, draft.emissionScale};
-            break;
-        default:
-            break;
-    }
-    switch (draft.fluorescenceKind) {
-        case 1:
-            material.spectral.fluorescence.reset();
-            break;
-        case 2:
-            material.spectral.fluorescence =
-                FluorophorePreset{kFluorophores[draft.fluorescencePreset]};
-            break;
-        case 3: {
-            FluorescenceParams params;
-            params.absorption =
-                SpectrumSpec{GaussianSpectrum{draft.absorptionPeakNm, draft.absorptionFwhmNm},
-                             draft.absorptionScale};
-            params.emission =
-                SpectrumSpec{GaussianSpectrum{draft.emissionPeakNm, draft.emissionFwhmNm}, 1.0};
-            params.quantumYield = draft.quantumYield;
-            material.spectral.fluorescence = params;
-            break;
-        }
-        default:
-            break;
-    }
-    return material;
-}
 
 void statistics(const UiState& state, const DisplaySnapshot& snapshot, const SolveWorker& worker,
                 const Scene& scene) {
@@ -200,7 +141,7 @@ bool materialEditor(MaterialDraft& draft) {
             changed |= ImGui::VSliderFloat("##rho", ImVec2(22, 90),
                                            &draft.reflectancePoints[std::size_t(k)], 0, 1, "");
             if (ImGui::IsItemHovered())
-                ImGui::SetTooltip("%.0f nm: %.3f", kControlPointsNm[k],
+                ImGui::SetTooltip("%.0f nm: %.3f", kControlPointsNm[std::size_t(k)],
                                   draft.reflectancePoints[std::size_t(k)]);
             ImGui::PopID();
         }
@@ -212,8 +153,8 @@ bool materialEditor(MaterialDraft& draft) {
     const char* emissionKinds[] = {"as loaded", "none", "preset", "blackbody"};
     changed |= ImGui::Combo("emission", &draft.emissionKind, emissionKinds, 4);
     if (draft.emissionKind == 2)
-        changed |= ImGui::Combo("illuminant", &draft.emissionPreset, kIlluminants,
-                                int(std::size(kIlluminants)));
+        changed |= ImGui::Combo("illuminant", &draft.emissionPreset, kEmissionPresets.data(),
+                                int(kEmissionPresets.size()));
     if (draft.emissionKind == 3)
         changed |= ImGui::SliderFloat("temperature K", &draft.blackbodyK, 1000, 12000, "%.0f");
     if (draft.emissionKind >= 2)
@@ -222,8 +163,8 @@ bool materialEditor(MaterialDraft& draft) {
     const char* fluorescenceKinds[] = {"as loaded", "none", "preset", "parameters"};
     changed |= ImGui::Combo("fluorescence", &draft.fluorescenceKind, fluorescenceKinds, 4);
     if (draft.fluorescenceKind == 2)
-        changed |= ImGui::Combo("fluorophore", &draft.fluorescencePreset, kFluorophores,
-                                int(std::size(kFluorophores)));
+        changed |= ImGui::Combo("fluorophore", &draft.fluorescencePreset,
+                                kFluorophorePresets.data(), int(kFluorophorePresets.size()));
     if (draft.fluorescenceKind == 3) {
         changed |= ImGui::SliderFloat("absorption peak nm", &draft.absorptionPeakNm, 300, 700);
         changed |= ImGui::SliderFloat("absorption FWHM nm", &draft.absorptionFwhmNm, 5, 200);
@@ -272,21 +213,8 @@ void pickedPatch(const UiState& state, const DisplaySnapshot& snapshot, const Sc
 void initUi(UiState& state, const Scene& scene, const std::string& wavelengthsText) {
     state.wavelengthsText = wavelengthsText;
     state.drafts.clear();
-    for (const Material& material : scene.materials) {
-        MaterialDraft draft;
-        for (int c = 0; c < 3; ++c)
-            draft.reflectanceRgb[std::size_t(c)] = float(material.baseColor[std::size_t(c)]);
-        if (material.spectral.reflectance) {
-            if (const auto* rgb = std::get_if<RgbSpectrum>(&material.spectral.reflectance->shape)) {
-                for (int c = 0; c < 3; ++c)
-                    draft.reflectanceRgb[std::size_t(c)] = float(rgb->rgb[std::size_t(c)]);
-            }
-        }
-        const float mean =
-            (draft.reflectanceRgb[0] + draft.reflectanceRgb[1] + draft.reflectanceRgb[2]) / 3;
-        draft.reflectancePoints.fill(mean);
-        state.drafts.push_back(draft);
-    }
+    for (const Material& material : scene.materials)
+        state.drafts.push_back(draftOf(material));
 }
 
 void drawPanel(UiState& state, const DisplaySnapshot& snapshot, SolveWorker& worker,
@@ -307,7 +235,7 @@ void drawPanel(UiState& state, const DisplaySnapshot& snapshot, SolveWorker& wor
             ImGui::PushID(int(k));
             if (ImGui::TreeNode(scene.materials[k].name.c_str())) {
                 if (materialEditor(state.drafts[k]))
-                    worker.setMaterial(k, buildMaterial(scene.materials[k], state.drafts[k]));
+                    worker.setMaterial(k, materialFromDraft(scene.materials[k], state.drafts[k]));
                 ImGui::TreePop();
             }
             ImGui::PopID();

@@ -11,24 +11,10 @@
 
 #include "scene/scene.h"
 #include "viewer/display_values.h"
+#include "viewer/material_edit.h"
 #include "viewer/solve_worker.h"
 
 namespace daisy::viewer {
-
-// The editor's controls for one material.
-struct MaterialDraft {
-    std::array<float, 3> reflectanceRgb{0.8f, 0.8f, 0.8f};
-    bool spectralReflectance = false;  // control points instead of RGB
-    std::array<float, 8> reflectancePoints{};  // at kControlPointsNm
-    int emissionKind = 0;  // 0 as loaded, 1 none, 2 preset, 3 blackbody
-    int emissionPreset = 0;
-    float blackbodyK = 3000;
-    float emissionScale = 1;
-    int fluorescenceKind = 0;  // 0 as loaded, 1 none, 2 preset, 3 parameters
-    int fluorescencePreset = 0;
-    float absorptionPeakNm = 365, absorptionFwhmNm = 40, absorptionScale = 0.5f;
-    float emissionPeakNm = 450, emissionFwhmNm = 50, quantumYield = 0.8f;
-};
 
 struct UiState {
     DisplaySettings display;

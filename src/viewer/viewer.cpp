@@ -758,7 +758,7 @@ int Viewer::run() {
         const bool held = dragging_ || heldKey();
         const bool active = events_.activity || held;
         events_.activity = false;
-        settleFrames_ = active ? 3 : settleFrames_ - 1;
+        settleFrames_ = active ? 3 : std::max(settleFrames_ - 1, 0);
         const bool fresh = worker_.latest()->version != shownVersion_;
         const bool counting = options_.frames > 0 && worker_.idle();
         if (settleFrames_ <= 0 && !fresh && !resized_ && !counting && !ui_.screenshotRequest &&

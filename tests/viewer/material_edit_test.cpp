@@ -7,6 +7,10 @@
 
 #include <variant>
 
+#include "core/strings.h"
+#include "pipeline/session.h"
+#include "verify/scenes.h"
+
 namespace daisy::viewer {
 namespace {
 
@@ -75,6 +79,72 @@ TEST(MaterialEdit, TargetsEveryMaterialOfTheNameOrListsTheNames) {
     EXPECT_NE(none.error().message.find("box.gltf has no material 'floor' (it has 'wall', 'lamp')"),
               std::string::npos)
         << none.error().message;
+}
+
+// The panel's drafts become the extension's own types; the physical check is the session's, so
+// a draft with reflectance + absorption over 1 is refused there (DESIGN.md section 5).
+TEST(MaterialEdit, DraftsBecomeMaterialsTheSessionChecks) {
+    Material base;
+    base.name = "wall";
+    base.origin = "room: material 0";
+    base.baseColor = {0.25, 0.5, 0.75};
+    MaterialDraft draft = draftOf(base);
+    EXPECT_EQ(draft.reflectanceRgb, (std::array<float, 3>{0.25f, 0.5f, 0.75f}));
+    EXPECT_FLOAT_EQ(draft.reflectancePoints[3], 0.5f);
+
+    draft.spectralReflectance = true;
+    draft.reflectancePoints = {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f, 0.7f, 0.8f};
+    draft.emissionKind = 3;
+    draft.blackbodyK = 2700;
+    draft.emissionScale = 4;
+    draft.fluorescenceKind = 2;
+    draft.fluorescencePreset = 1;
+    const Material built = materialFromDraft(base, draft);
+    const auto* points = std::get_if<TabulatedSpectrum>(&built.spectral.reflectance->shape);
+    ASSERT_NE(points, nullptr);
+    EXPECT_EQ(points->wavelengthsNm.front(), 350);
+    EXPECT_EQ(points->wavelengthsNm.back(), 700);
+    EXPECT_FLOAT_EQ(float(points->values[7]), 0.8f);
+    const auto* blackbody = std::get_if<BlackbodySpectrum>(&built.spectral.emission->shape);
+    ASSERT_NE(blackbody, nullptr);
+    EXPECT_EQ(blackbody->temperatureK, 2700);
+    EXPECT_EQ(built.spectral.emission->scale, 4);
+    const auto* preset = std::get_if<FluorophorePreset>(&*built.spectral.fluorescence);
+    ASSERT_NE(preset, nullptr);
+    EXPECT_EQ(preset->name, "fluorescein");
+
+    // Absorption 1 across the visible under a reflectance of 0.8: refused, naming the material.
+    Scene scene;
+    scene.path = "room";
+    verify::addRoom(scene.mesh, {0, 0, 0}, {1, 1, 1}, 1);
+    for (int face = 0; face < 6; ++face) {
+        Material material = base;
+        material.name = concat("face", face);
+        material.origin = concat("room: material ", face);
+        scene.materials.push_back(material);
+    }
+    scene.materials[1].spectral.emission = SpectrumSpec{PresetSpectrum{"D65"}, 1.0};
+    SessionSettings settings;
+    settings.backend = "cpu";
+    settings.subdivideMaxEdge = 0;
+    settings.formFactors.progress = false;
+    settings.logStages = false;
+    auto session = Session::fromScene(std::move(scene), settings);
+    ASSERT_TRUE(session) << session.error().message;
+    MaterialDraft glowing = draftOf(session->scene().materials[0]);
+    glowing.reflectanceRgb = {0.8f, 0.8f, 0.8f};
+    glowing.fluorescenceKind = 3;
+    glowing.absorptionPeakNm = 550;
+    glowing.absorptionFwhmNm = 200;
+    glowing.absorptionScale = 1;
+    auto refused =
+        session->setMaterial(0, materialFromDraft(session->scene().materials[0], glowing));
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("face0"), std::string::npos) << refused.error().message;
+    glowing.absorptionScale = 0.1f;
+    glowing.reflectanceRgb = {0.5f, 0.5f, 0.5f};
+    ASSERT_TRUE(session->setMaterial(0, materialFromDraft(session->scene().materials[0], glowing)));
+    EXPECT_EQ(session->fluorescentOperatorCount(), 1u);
 }
 
 }  // namespace

@@ -6,6 +6,12 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <string>
+
+#include <unistd.h>
+#include <string>
+
+#include <unistd.h>
 
 #include "image/image_io.h"
 #include "shared/viewer_types.h"
@@ -25,7 +31,11 @@ const std::string kSize = " --camera measured --width 160 --height 120";
 RunResult runView(const std::string& arguments) {
     const char* display = std::getenv("DISPLAY");
     const bool haveDisplay = display && display[0] != '\0';
-    const std::string prefix = haveDisplay ? "" : "xvfb-run -a -s '-screen 0 1600x1200x24' ";
+    // ctest runs tests in parallel: each starts its search for a free X display at its own
+    // number (xvfb-run -a takes the first free one from -n on), so two rarely race for one.
+    const std::string prefix = haveDisplay ? ""
+                                           : "xvfb-run -a -n " +
+            std::to_string(100 + getpid() % 800) + " -s '-screen 0 1600x1200x24' ";
     RunResult result;
     const std::string command = "XDG_CACHE_HOME='" + test::testCacheHome().string() + "' " +
         prefix + DAISY_EXE_PATH + " view " + arguments + " 2>&1";
