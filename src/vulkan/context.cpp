@@ -183,17 +183,22 @@ std::string checkDevice(VkPhysicalDevice device, const DeviceRequirements& requi
     std::vector<VkQueueFamilyProperties> families(familyCount);
     vkGetPhysicalDeviceQueueFamilyProperties(device, &familyCount, families.data());
     bool found = false;
-    VkQueueFlags flags = VK_QUEUE_COMPUTE_BIT;
-    if (requirements.graphics) flags |= VK_QUEUE_GRAPHICS_BIT;
-    for (uint32_t f = 0; f < familyCount && !found; ++f) {
-        if ((families[f].queueFlags & flags) != flags) continue;
-        if (requirements.presentSurface) {
-            VkBool32 presents = VK_FALSE;
-            vkGetPhysicalDeviceSurfaceSupportKHR(device, f, requirements.presentSurface, &presents);
-            if (!presents) continue;
+    VkQueueFlags needed = 0;
+    if (requirements.compute) needed |= VK_QUEUE_COMPUTE_BIT;
+    if (requirements.graphics) needed |= VK_QUEUE_GRAPHICS_BIT;
+    // A family with compute as well is preferred, so one queue can serve both uses.
+    for (const VkQueueFlags flags : {needed | VK_QUEUE_COMPUTE_BIT, needed}) {
+        for (uint32_t f = 0; f < familyCount && !found; ++f) {
+            if ((families[f].queueFlags & flags) != flags) continue;
+            if (requirements.presentSurface) {
+                VkBool32 presents = VK_FALSE;
+                vkGetPhysicalDeviceSurfaceSupportKHR(device, f, requirements.presentSurface,
+                                                     &presents);
+                if (!presents) continue;
+            }
+            queueFamily = f;
+            found = true;
         }
-        queueFamily = f;
-        found = true;
     }
     need(found,
          requirements.presentSurface ? "a graphics queue that presents to the window"

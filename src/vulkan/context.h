@@ -23,7 +23,7 @@ struct VulkanContext {
     VkInstance instance = VK_NULL_HANDLE;
     VkPhysicalDevice physicalDevice = VK_NULL_HANDLE;
     VkDevice device = VK_NULL_HANDLE;
-    VkQueue queue = VK_NULL_HANDLE;  // compute, and graphics + present when the device was asked
+    VkQueue queue = VK_NULL_HANDLE;  // the requirements' queue (compute; graphics, present)
     uint32_t queueFamily = 0;
     bool computeFeatures = false;  // bufferDeviceAddress, scalarBlockLayout, shaderInt64 enabled
     VkCommandPool commandPool = VK_NULL_HANDLE;  // resettable command buffers, queueFamily
@@ -43,7 +43,7 @@ struct VulkanDeviceInfo {
 // What a device must offer.
 struct DeviceRequirements {
     bool compute = true;  // the compute backend's features and a compute queue
-    bool graphics = false;  // a queue with graphics and compute
+    bool graphics = false;  // a queue with graphics (with compute too when a family has both)
     VkSurfaceKHR presentSurface = VK_NULL_HANDLE;  // the queue presents to it; VK_KHR_swapchain
 };
 
