@@ -50,6 +50,10 @@ int runView(const CommonOptions& options, const ViewOptions& view) {
         }
         return {};
     };
+    if (const std::string why = viewer::windowUnavailable(); !why.empty()) {
+        logError(why);
+        return 1;
+    }
     auto session = openSession(options, PatchSizeDefault::Automatic, checkScene);
     if (!session) return 2;
     auto formFactors = session->buildFormFactors(&interruptToken());

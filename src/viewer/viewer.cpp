@@ -822,9 +822,10 @@ int Viewer::run() {
                                    .c_str());
         }
         if (capture && drawn) {
-            const std::string path = ui_.screenshotRequest && !finalFrame
-                ? concat("daisy_view_", framesDrawn_, ".png")
-                : options_.screenshotPath;
+            // F12 in the interactive mode writes to --screenshot when given.
+            const bool named = finalFrame || (!testMode && !options_.screenshotPath.empty());
+            const std::string path =
+                named ? options_.screenshotPath : concat("daisy_view_", framesDrawn_, ".png");
             if (!swapchain_.transferSource) {
                 logError(
                     "daisy view: this swapchain's images cannot be read back (no "
@@ -871,6 +872,15 @@ int Viewer::run() {
 }
 
 }  // namespace
+
+std::string windowUnavailable() {
+    if (!glfwInit()) {
+        return "daisy view: cannot open a window (no display: set DISPLAY, or run under xvfb-run)";
+    }
+    const bool vulkan = glfwVulkanSupported();
+    glfwTerminate();
+    return vulkan ? "" : "daisy view: GLFW finds no Vulkan loader (install a Vulkan driver)";
+}
 
 int runViewer(Session session, const ViewerOptions& options) {
     Viewer viewer(std::move(session), options);

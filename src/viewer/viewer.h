@@ -32,6 +32,10 @@ struct ViewerOptions {
     std::string wavelengthsText = "auto";  // --wavelengths as typed, for the panel
 };
 
+// The reason no window can open here (GLFW cannot reach a display, or finds no Vulkan loader),
+// or "" when one can: checked before the view factors so a missing display fails fast.
+std::string windowUnavailable();
+
 // Runs the viewer on `session` (F built and solved) until the window closes, or for the test
 // mode's frames, and returns the exit status: 0, 2 for a bad --edit or --camera (checked before
 // the window opens), 1 for no display or no Vulkan device that presents (the message, logged,

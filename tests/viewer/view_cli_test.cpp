@@ -27,15 +27,20 @@ using test::RunResult;
 const std::string kScene = test::assetPath("scenes/cornell_box.gltf") + " --subdivide 0.1";
 const std::string kSize = " --camera measured --width 160 --height 120";
 
-// Runs `daisy view ARGUMENTS` with the test's own cache, under xvfb-run when there is no display.
-RunResult runView(const std::string& arguments) {
+// Runs `daisy view ARGUMENTS` with the test's own cache, under xvfb-run when there is no display
+// (with `withDisplay` false: with none at all).
+RunResult runView(const std::string& arguments, bool withDisplay = true) {
     const char* display = std::getenv("DISPLAY");
     const bool haveDisplay = display && display[0] != '\0';
     // ctest runs tests in parallel: each starts its search for a free X display at its own
     // number (xvfb-run -a takes the first free one from -n on), so two rarely race for one.
-    const std::string prefix = haveDisplay ? ""
-                                           : "xvfb-run -a -n " +
-            std::to_string(100 + getpid() % 800) + " -s '-screen 0 1600x1200x24' ";
+    std::string prefix;
+    if (!withDisplay) {
+        prefix = "env -u DISPLAY -u WAYLAND_DISPLAY ";
+    } else if (!haveDisplay) {
+        prefix = "xvfb-run -a -n " + std::to_string(100 + getpid() % 800) +
+            " -s '-screen 0 1600x1200x24' ";
+    }
     RunResult result;
     const std::string command = "XDG_CACHE_HOME='" + test::testCacheHome().string() + "' " +
         prefix + DAISY_EXE_PATH + " view " + arguments + " 2>&1";
@@ -221,6 +226,13 @@ TEST(ViewCli, RefusedEditSaysWhyAndExitsTwo) {
     EXPECT_EQ(run.status, 2) << run.output;
     EXPECT_NE(run.output.find("edit refused"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("white"), std::string::npos) << run.output;
+}
+
+TEST(ViewCli, NoDisplayFailsBeforeTheViewFactors) {
+    const RunResult run = runView(kScene + " --frames 1", false);
+    EXPECT_EQ(run.status, 1) << run.output;
+    EXPECT_NE(run.output.find("cannot open a window (no display"), std::string::npos) << run.output;
+    EXPECT_EQ(run.output.find("view factors"), std::string::npos) << run.output;
 }
 
 TEST(ViewCli, BadCameraAndEditFailBeforeTheViewFactors) {
