@@ -294,11 +294,69 @@ std::string gltfOutOfRange(const char* what, long long index, std::size_t count)
     return concat(what, " ", index, " is out of range (the file has ", count, ")");
 }
 
+namespace {
+
+// glTF 2.0 section 3.11 (normalized integers): the float a stored component stands for.
+void normalize(const tinygltf::Model& model, int index, std::vector<double>& values) {
+    const tinygltf::Accessor& accessor = model.accessors[static_cast<std::size_t>(index)];
+    if (!accessor.normalized) return;
+    double scale = 1;
+    bool isSigned = false;
+    switch (accessor.componentType) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE:
+            scale = 127, isSigned = true;
+            break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            scale = 255;
+            break;
+        case TINYGLTF_COMPONENT_TYPE_SHORT:
+            scale = 32767, isSigned = true;
+            break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+            scale = 65535;
+            break;
+        default:
+            return;
+    }
+    for (double& value : values)
+        value = isSigned ? std::max(value / scale, -1.0) : value / scale;
+}
+
+constexpr std::initializer_list<int> kQuantizedTypes = {
+    TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE,
+    TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT,
+    TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT};
+
+}  // namespace
+
+Expected<std::vector<double>> readGltfAttribute(const tinygltf::Model& model, int index,
+                                                int components, LoadBudget& budget) {
+    const int type = components == 2 ? TINYGLTF_TYPE_VEC2
+        : components == 3            ? TINYGLTF_TYPE_VEC3
+                                     : TINYGLTF_TYPE_VEC4;
+    const char* required = components == 2 ? "VEC2 FLOAT or (normalized) integers"
+        : components == 3                  ? "VEC3 FLOAT or (normalized) integers"
+                                           : "VEC4 FLOAT or (normalized) integers";
+    auto values = readAccessor(model, index, type, kQuantizedTypes, required, budget);
+    if (!values) return values.error();
+    normalize(model, index, *values);
+    for (std::size_t i = 0; i < values->size(); ++i) {
+        if (!std::isfinite((*values)[i])) {
+            return Error{concat("accessors[", index, "]: element ", i / std::size_t(components),
+                                " is not finite")};
+        }
+    }
+    return values;
+}
+
 Expected<std::vector<Vec3d>> readGltfPositions(const tinygltf::Model& model, int index,
                                                LoadBudget& budget) {
-    auto values = readAccessor(model, index, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT},
-                               "VEC3 FLOAT", budget);
+    // KHR_mesh_quantization allows (normalized) byte and short positions; the node transform
+    // scales them back.
+    auto values = readAccessor(model, index, TINYGLTF_TYPE_VEC3, kQuantizedTypes,
+                               "VEC3 FLOAT (or KHR_mesh_quantization's BYTE or SHORT)", budget);
     if (!values) return values.error();
+    normalize(model, index, *values);
     std::vector<Vec3d> positions(values->size() / 3);
     for (std::size_t i = 0; i < positions.size(); ++i) {
         positions[i] = {(*values)[3 * i], (*values)[3 * i + 1], (*values)[3 * i + 2]};

@@ -19,11 +19,18 @@ class Model;
 
 namespace daisy {
 
-// Accessor `index` as VEC3 FLOAT positions widened to double, in the accessor's own units.
+// Accessor `index` as VEC3 positions widened to double, in the accessor's own units: FLOAT, or
+// KHR_mesh_quantization's BYTE, UNSIGNED_BYTE, SHORT, UNSIGNED_SHORT (normalized or not).
 // Refuses other types, out-of-range references, data outside its buffer view or buffer, and
 // non-finite components.
 Expected<std::vector<Vec3d>> readGltfPositions(const tinygltf::Model& model, int index,
                                                LoadBudget& budget);
+
+// Accessor `index` as VEC2, VEC3 or VEC4 (`components`) of FLOAT or of integers, normalized
+// ones mapped to [0, 1] or [-1, 1] (glTF 2.0 section 3.11; KHR_mesh_quantization): texture
+// coordinates and vertex colours, count x components doubles. Refuses non-finite values.
+Expected<std::vector<double>> readGltfAttribute(const tinygltf::Model& model, int index,
+                                                int components, LoadBudget& budget);
 
 // Accessor `index` as SCALAR UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT vertex indices.
 // The values are not checked against any vertex count. Both charge what they allocate to
