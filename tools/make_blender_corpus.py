@@ -14,6 +14,9 @@ It writes
   Cycles with Lambertian (Diffuse BSDF) copies of the materials (64 x 64 pixels, 1024 samples,
   32 bounces, no denoising, Standard view transform, linear EXR), which
   tests/scene/blender_corpus_test.cpp compares daisy's render with.
+Then, for the quantized, instanced and compressed paths, gltfpack 1.3 (`npm install -g gltfpack`):
+    cd tests/data/blender && gltfpack -i room.gltf -o room_packed.gltf -mi \
+        && gltfpack -i room.gltf -o room_meshopt.glb -mi -cc
 """
 import math
 import os

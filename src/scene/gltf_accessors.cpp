@@ -271,21 +271,31 @@ Expected<GltfMatrix> readGltfNodeTransform(const tinygltf::Model& model, int ind
         std::copy(node.matrix.begin(), node.matrix.end(), m.begin());
         return m;
     }
+    std::array<double, 3> t{0, 0, 0}, scale{1, 1, 1};
     std::array<double, 4> q{0, 0, 0, 1};
+    if (!node.translation.empty()) std::copy_n(node.translation.begin(), 3, t.begin());
     if (!node.rotation.empty()) std::copy(node.rotation.begin(), node.rotation.end(), q.begin());
+    if (!node.scale.empty()) std::copy_n(node.scale.begin(), 3, scale.begin());
+    auto trs = gltfTrsMatrix(t, q, scale);
+    if (!trs) return Error{where + ".rotation: " + trs.error().message};
+    return trs;
+}
+
+Expected<GltfMatrix> gltfTrsMatrix(const std::array<double, 3>& translation,
+                                   const std::array<double, 4>& q,
+                                   const std::array<double, 3>& scale) {
     const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    if (!(norm > 0) || !std::isfinite(norm))
-        return Error{where + ".rotation: not a unit quaternion"};
+    if (!(norm > 0) || !std::isfinite(norm)) return Error{"not a unit quaternion"};
     const double x = q[0] / norm, y = q[1] / norm, z = q[2] / norm, w = q[3] / norm;
     const double rotation[3][3] = {
         {1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
         {2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
         {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}};
+    GltfMatrix m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     for (int c = 0; c < 3; ++c) {
-        const double scale = node.scale.empty() ? 1.0 : node.scale[static_cast<std::size_t>(c)];
         for (int r = 0; r < 3; ++r)
-            m[4 * c + r] = rotation[r][c] * scale;
-        if (!node.translation.empty()) m[12 + c] = node.translation[static_cast<std::size_t>(c)];
+            m[4 * c + r] = rotation[r][c] * scale[static_cast<std::size_t>(c)];
+        m[12 + c] = translation[static_cast<std::size_t>(c)];
     }
     return m;
 }

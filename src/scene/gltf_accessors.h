@@ -46,6 +46,12 @@ using GltfMatrix = std::array<double, 16>;
 // non-finite numbers. Precondition: `index` is a valid node index.
 Expected<GltfMatrix> readGltfNodeTransform(const tinygltf::Model& model, int index);
 
+// T * R * S from a translation, a quaternion (x, y, z, w; normalised here) and a scale.
+// Errors ("not a unit quaternion") when the quaternion has no length.
+Expected<GltfMatrix> gltfTrsMatrix(const std::array<double, 3>& translation,
+                                   const std::array<double, 4>& rotation,
+                                   const std::array<double, 3>& scale);
+
 // "<what> <index> is out of range (the file has <count>)", for references between glTF arrays.
 std::string gltfOutOfRange(const char* what, long long index, std::size_t count);
 

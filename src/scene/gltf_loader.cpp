@@ -337,8 +337,16 @@ private:
                     return Error{where + ".mesh: " +
                                  gltfOutOfRange("mesh", node.mesh, model_.meshes.size())};
                 }
-                auto appended = appendMesh(node.mesh, world);
-                if (!appended) return appended;
+                auto instances = instanceTransforms(nodeIndex, where);
+                if (!instances) return instances.error();
+                if (instances->empty()) {
+                    auto appended = appendMesh(node.mesh, world);
+                    if (!appended) return appended;
+                }
+                for (const Mat4& instance : *instances) {
+                    auto appended = appendMesh(node.mesh, multiply(world, instance));
+                    if (!appended) return appended;
+                }
             }
             if (node.camera != -1) {
                 auto added = addCamera(node, where, world);
@@ -355,6 +363,68 @@ private:
             }
         }
         return {};
+    }
+
+    // EXT_mesh_gpu_instancing: node `nodeIndex`'s per-instance TRANSLATION, ROTATION (unit
+    // quaternion) and SCALE, each instance's T R S (applied before the node's own transform);
+    // empty without the extension.
+    Expected<std::vector<Mat4>> instanceTransforms(std::size_t nodeIndex,
+                                                   const std::string& where) {
+        std::vector<Mat4> out;
+        const nlohmann::json* rawNodes = findMember(&root_, "nodes");
+        if (rawNodes == nullptr || !rawNodes->is_array() || nodeIndex >= rawNodes->size())
+            return out;
+        const nlohmann::json* extension = findMember(
+            findMember(&(*rawNodes)[nodeIndex], "extensions"), "EXT_mesh_gpu_instancing");
+        if (extension == nullptr) return out;
+        const std::string extensionWhere = where + ".extensions.EXT_mesh_gpu_instancing";
+        const nlohmann::json* attributes = findMember(extension, "attributes");
+        if (attributes == nullptr || !attributes->is_object()) {
+            return Error{extensionWhere + ".attributes: expected an object"};
+        }
+        std::array<std::vector<double>, 3> values;  // translation, rotation, scale
+        const std::array<std::pair<const char*, int>, 3> kinds = {
+            std::pair{"TRANSLATION", 3}, std::pair{"ROTATION", 4}, std::pair{"SCALE", 3}};
+        std::size_t count = 0;
+        bool any = false;
+        for (std::size_t k = 0; k < kinds.size(); ++k) {
+            const nlohmann::json* accessor = findMember(attributes, kinds[k].first);
+            if (accessor == nullptr) continue;
+            const std::string attributeWhere =
+                concat(extensionWhere, ".attributes.", kinds[k].first);
+            if (!accessor->is_number_integer())
+                return Error{attributeWhere + ": expected an integer"};
+            auto read = readGltfAttribute(model_, accessor->get<int>(), kinds[k].second, budget_);
+            if (!read) return withContext(read.error(), attributeWhere);
+            const std::size_t n = read->size() / std::size_t(kinds[k].second);
+            if (any && n != count) {
+                return Error{
+                    concat(attributeWhere, ": ", n, " instances where the others have ", count)};
+            }
+            count = n;
+            any = true;
+            values[k] = std::move(*read);
+        }
+        if (auto charged = budget_.charge(count * sizeof(Mat4),
+                                          concat(extensionWhere, ": ", count, " instances"));
+            !charged) {
+            return charged.error();
+        }
+        out.reserve(count);
+        for (std::size_t i = 0; i < count; ++i) {
+            std::array<double, 3> t{0, 0, 0}, scale{1, 1, 1};
+            std::array<double, 4> q{0, 0, 0, 1};
+            if (!values[0].empty()) std::copy_n(values[0].begin() + 3 * i, 3, t.begin());
+            if (!values[1].empty()) std::copy_n(values[1].begin() + 4 * i, 4, q.begin());
+            if (!values[2].empty()) std::copy_n(values[2].begin() + 3 * i, 3, scale.begin());
+            auto m = gltfTrsMatrix(t, q, scale);
+            if (!m) {
+                return Error{
+                    concat(extensionWhere, ": instance ", i, " rotation: ", m.error().message)};
+            }
+            out.push_back(*m);
+        }
+        return out;
     }
 
     Expected<void> appendMesh(int meshIndex, const Mat4& world) {

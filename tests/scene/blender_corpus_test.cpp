@@ -150,5 +150,37 @@ TEST(BlenderCorpus, CornellBoxMatchesCycles) {
     }
 }
 
+TEST(BlenderCorpus, GltfpackOutputLoadsLikeTheOriginal) {
+    // room_packed.gltf: `gltfpack -i room.gltf -o room_packed.gltf -mi` (gltfpack 1.3, npm):
+    // KHR_mesh_quantization (UNSIGNED_SHORT positions, dequantized by the node transform),
+    // KHR_texture_transform (quantized uvs), and the three cubes as one node with
+    // EXT_mesh_gpu_instancing. Same triangles, lights and floor texture mean as the original;
+    // positions within gltfpack's 14-bit quantization (bounds to 1e-3 of the 5 m room).
+    const Scene original = load("room.gltf");
+    const Scene packed = load("room_packed.gltf");
+    EXPECT_EQ(packed.mesh.triangleCount(), original.mesh.triangleCount());
+    EXPECT_NEAR(meshArea(packed.mesh), meshArea(original.mesh), 1e-2);
+    const Bounds3d a = meshBounds(original.mesh), b = meshBounds(packed.mesh);
+    EXPECT_NEAR(length(a.lo - b.lo), 0, 1e-3);
+    EXPECT_NEAR(length(a.hi - b.hi), 0, 1e-3);
+    ASSERT_EQ(packed.lights.size(), 2u);
+    EXPECT_NEAR(packed.lights[0].intensity, original.lights[0].intensity, 1e-3);
+    const auto expected = meanReflectance(original, "floor");
+    const auto got = meanReflectance(packed, "floor");
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(got[c], expected[c], 0.005) << c;
+}
+
+TEST(BlenderCorpus, MeshoptCompressedFileIsRefusedNamingTheExtension) {
+    // room_meshopt.glb: the same with `-cc` (EXT_meshopt_compression, required).
+    const std::string path = test::testDataPath("blender/room_meshopt.glb");
+    auto scene = loadScene(path, {});
+    ASSERT_FALSE(scene);
+    EXPECT_EQ(scene.error().message,
+              path +
+                  ": extensionsRequired: EXT_meshopt_compression is not supported: daisy cannot "
+                  "decode this compressed geometry; export the file without mesh compression");
+}
+
 }  // namespace
 }  // namespace daisy
