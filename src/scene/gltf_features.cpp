@@ -13,7 +13,7 @@ namespace {
 
 constexpr std::array<std::string_view, 6> kSupported = {
     "KHR_materials_emissive_strength", kSpectralExtensionName, "KHR_mesh_quantization",
-    "KHR_texture_transform", "KHR_lights_punctual", "EXT_mesh_gpu_instancing"};
+    "KHR_texture_transform",           "KHR_lights_punctual",  "EXT_mesh_gpu_instancing"};
 
 // Material extensions a diffuse solve drops, and what the warning calls them.
 constexpr std::array<std::pair<std::string_view, std::string_view>, 10> kMaterialFeatures = {{
