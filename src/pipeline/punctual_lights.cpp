@@ -106,8 +106,9 @@ Expected<void> addDirectLight(RadiositySystem& system, const LightGeometry& geom
     for (const PunctualLight& light : lights) {
         const Rgb rgb{light.color[0] * light.intensity, light.color[1] * light.intensity,
                       light.color[2] * light.intensity};
-        auto spectrum =
-            materialEmission(set, std::nullopt, rgb, concat("light '", light.name, "'"));
+        std::optional<SpectrumSpec> spectral = light.spectrum;
+        if (spectral) spectral->scale *= light.intensity;
+        auto spectrum = materialEmission(set, spectral, rgb, concat("light '", light.name, "'"));
         if (!spectrum) return spectrum.error();
         spectra.push_back(std::move(*spectrum));
     }

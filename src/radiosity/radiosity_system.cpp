@@ -194,6 +194,12 @@ Expected<SceneSpectralFacts> sceneSpectralFacts(const Scene& scene) {
         if (!uv) return withContext(uv.error(), material.origin);
         if (*uv) facts.hasUvLights = true;
     }
+    for (const PunctualLight& light : scene.lights) {
+        if (!light.spectrum) continue;
+        auto uv = isUvEmitting(*light.spectrum);
+        if (!uv) return withContext(uv.error(), concat(scene.path, ": light '", light.name, "'"));
+        if (*uv) facts.hasUvLights = true;
+    }
     return facts;
 }
 

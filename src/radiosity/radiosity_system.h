@@ -60,7 +60,7 @@ Expected<RadiositySystem> buildRadiositySystem(const Scene& scene, const PatchMe
 void finishOperator(MaterialOperator& op, const std::vector<double>& binWidthsNm);
 
 // The two scene facts the `auto` wavelength set depends on (wavelength_set.h): some material
-// emits mostly UV, and some material is fluorescent.
+// (or punctual light with a spectrum) emits mostly UV, and some material is fluorescent.
 struct SceneSpectralFacts {
     bool hasUvLights = false;
     bool hasFluorescence = false;

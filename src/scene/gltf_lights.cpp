@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/strings.h"
+#include "scene/material_extension.h"
 
 namespace daisy {
 namespace {
@@ -90,6 +91,14 @@ Expected<std::vector<PunctualLight>> readGltfLights(const nlohmann::json& root) 
             if (!inner) return inner.error();
             light.innerConeRad = *inner;
             light.outerConeRad = *outer;
+        }
+        if (const nlohmann::json* spectral = member(object, "extensions") != nullptr
+                ? member(*member(object, "extensions"), kSpectralExtensionName)
+                : nullptr) {
+            auto parsed = parseMaterialExtension(
+                *spectral, concat(where, ".extensions.", kSpectralExtensionName));
+            if (!parsed) return parsed.error();
+            light.spectrum = parsed->emission;
         }
         lights.push_back(std::move(light));
     }

@@ -3,6 +3,7 @@
 // per triangle, the materials, and the cameras. Units are the file's (glTF: metres).
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -40,6 +41,9 @@ struct PunctualLight {
     double range = 0;  // metres; 0 = unlimited
     double innerConeRad = 0;  // spot
     double outerConeRad = 0.7853981633974483;  // spot, pi / 4 by default
+    // The light's DAISY_materials_spectral emission, when given: its spectrum (times its scale
+    // and `intensity`) replaces color's RGB spectrum.
+    std::optional<SpectrumSpec> spectrum;
 };
 
 struct Scene {

@@ -321,5 +321,56 @@ TEST(GltfFeatures, QuantizedPositionsAreDequantized) {
     EXPECT_EQ(scene.mesh.positions[2], (Vec3d{0, -2, 0}));
 }
 
+TEST(GltfFeatures, PunctualLightsArePlacedByTheirNodes) {
+    GltfBuilder gltf;
+    gltf.addSingleTriangleScene({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+    gltf.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    gltf.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
+        {{"type", "spot"},
+         {"name", "uv spot"},
+         {"intensity", 3},
+         {"spot", {{"outerConeAngle", 0.5}}},
+         {"extensions",
+          {{"DAISY_materials_spectral",
+            {{"emission", {{"preset", "blacklight"}, {"scale", 2}}}}}}}},
+        {{"type", "directional"}, {"color", {1, 0.5, 0.25}}}};
+    // The spot on a node turned a quarter about +x (its -z becomes -y: down), the sun unturned.
+    const int spot = gltf.addNode({{"translation", {0, 2, 0}},
+                                   {"rotation", {-std::sqrt(0.5), 0, 0, std::sqrt(0.5)}},
+                                   {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    const int sun = gltf.addNode({{"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+    gltf.doc["scenes"][0]["nodes"].push_back(spot);
+    gltf.doc["scenes"][0]["nodes"].push_back(sun);
+    const std::string path = gltf.writeGltf(test::testTempDir(), "lights.gltf");
+    const Scene scene = mustLoadScene(path);
+    ASSERT_EQ(scene.lights.size(), 2u);
+    const PunctualLight& a = scene.lights[0];
+    EXPECT_EQ(a.type, PunctualLight::Type::Spot);
+    EXPECT_EQ(a.name, "uv spot");
+    EXPECT_EQ(a.intensity, 3);
+    EXPECT_EQ(a.outerConeRad, 0.5);
+    EXPECT_EQ(a.innerConeRad, 0.0);
+    EXPECT_NEAR(length(a.position - Vec3d{0, 2, 0}), 0, 1e-12);
+    EXPECT_NEAR(length(a.direction - Vec3d{0, -1, 0}), 0, 1e-12);
+    ASSERT_TRUE(a.spectrum.has_value());
+    EXPECT_EQ(a.spectrum->scale, 2);
+    const PunctualLight& b = scene.lights[1];
+    EXPECT_EQ(b.type, PunctualLight::Type::Directional);
+    EXPECT_EQ(b.color, (std::array<double, 3>{1, 0.5, 0.25}));
+    EXPECT_EQ(b.direction, (Vec3d{0, 0, -1}));
+    // Lights count as emitters: no "nothing emits" warning.
+    for (const std::string& warning : scene.warnings)
+        EXPECT_EQ(warning.find("no surface emits"), std::string::npos) << warning;
+
+    gltf.doc["nodes"][spot]["extensions"]["KHR_lights_punctual"]["light"] = 7;
+    const std::string bad = gltf.writeGltf(test::testTempDir(), "bad_light.gltf");
+    auto refused = loadScene(bad, {});
+    ASSERT_FALSE(refused);
+    EXPECT_EQ(refused.error().message,
+              bad +
+                  ": nodes[1]: extensions.KHR_lights_punctual.light: light 7 is out of range "
+                  "(the file has 2)");
+}
+
 }  // namespace
 }  // namespace daisy
