@@ -128,5 +128,36 @@ TEST(PunctualLights, DirectLightIsReflectedIntoTheEmission) {
     EXPECT_GT(system.emission[0], 0.0);
 }
 
+TEST(PunctualLights, AUvLightOnAFluorescentFloorAddsTheUvSamples) {
+    // `auto` adds UV samples when a UV emitter meets a fluorescent material (DESIGN.md
+    // section 4): a black-light spectrum on a punctual light counts as a UV emitter.
+    Scene scene;
+    scene.path = "uv floor";
+    scene.mesh = floorMesh();
+    Material floor;
+    floor.name = "fluorescent floor";
+    floor.spectral.fluorescence = FluorophorePreset{"fluorescein"};
+    scene.materials = {floor};
+    PunctualLight light = pointLight({0, 2, 0}, 5);
+    light.spectrum = SpectrumSpec{PresetSpectrum{"blacklight"}, 1.0};
+    scene.lights = {light};
+    SessionSettings settings;
+    settings.backend = "cpu";
+    settings.subdivideMaxEdge = 0;
+    settings.logStages = false;
+    auto session = Session::fromScene(scene, settings);
+    ASSERT_TRUE(session) << session.error().message;
+    EXPECT_LT(session->wavelengths().wavelengthNm(0), 400.0);
+    // The fluorophore re-emits the absorbed UV in the visible: E has visible energy although
+    // nothing but the UV light shines.
+    const RadiositySystem& system = session->system();
+    const std::size_t m = system.wavelengthCount;
+    double visible = 0;
+    for (std::size_t k = 0; k < m; ++k) {
+        if (session->wavelengths().wavelengthNm(k) > 450) visible += system.emission[k];
+    }
+    EXPECT_GT(visible, 0.0);
+}
+
 }  // namespace
 }  // namespace daisy
