@@ -22,6 +22,7 @@
 #include "scene/gltf_document.h"
 #include "scene/gltf_features.h"
 #include "scene/gltf_lights.h"
+#include "scene/gltf_meshopt.h"
 #include "scene/gltf_textures.h"
 #include "scene/load_budget.h"
 #include "scene/material_extension.h"
@@ -632,7 +633,7 @@ Expected<ParsedFile> parseFile(const std::string& path, LoadBudget& budget,
     std::string bytes(fileBytes, '\0');
     file.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     if (static_cast<uint64_t>(file.gcount()) != fileBytes) return Error{"cannot read the file"};
-    const bool binary = (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) ||
+    bool binary = (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) ||
         toLower(std::filesystem::path(path).extension().string()) == ".glb";
 
     std::string_view jsonText = bytes;
@@ -648,9 +649,18 @@ Expected<ParsedFile> parseFile(const std::string& path, LoadBudget& budget,
     if (!root) return binary ? withContext(root.error(), "GLB chunk 0 (JSON)") : root.error();
     parsed.root = std::move(*root);
     if (auto ok = checkGltfAsset(parsed.root); !ok) return ok.error();
+    const std::string folder = std::filesystem::path(path).parent_path().string();
+    if (usesMeshoptCompression(parsed.root)) {
+        // Decoded into plain glTF (a .gltf with data: buffers) before anything else reads it.
+        if (auto ok = decodeMeshoptViews(parsed.root, folder, chunks.bin, budget); !ok) {
+            return ok.error();
+        }
+        bytes = parsed.root.dump();
+        binary = false;
+        chunks = GlbChunks{};
+    }
     if (auto ok = checkRequiredGltfExtensions(parsed.root); !ok) return ok.error();
     warnDroppedGltfFeatures(parsed.root, path, warnings);
-    const std::string folder = std::filesystem::path(path).parent_path().string();
     if (auto ok = checkGltfResources(parsed.root, folder, chunks.bin.size(), binary, budget); !ok) {
         return ok.error();
     }

@@ -171,15 +171,23 @@ TEST(BlenderCorpus, GltfpackOutputLoadsLikeTheOriginal) {
         EXPECT_NEAR(got[c], expected[c], 0.005) << c;
 }
 
-TEST(BlenderCorpus, MeshoptCompressedFileIsRefusedNamingTheExtension) {
-    // room_meshopt.glb: the same with `-cc` (EXT_meshopt_compression, required).
-    const std::string path = test::testDataPath("blender/room_meshopt.glb");
-    auto scene = loadScene(path, {});
-    ASSERT_FALSE(scene);
-    EXPECT_EQ(scene.error().message,
-              path +
-                  ": extensionsRequired: EXT_meshopt_compression is not supported: daisy cannot "
-                  "decode this compressed geometry; export the file without mesh compression");
+TEST(BlenderCorpus, MeshoptCompressedFileLoadsLikeTheUncompressedOne) {
+    // room_meshopt.glb: the same with `-cc` (EXT_meshopt_compression, required; GLB with the
+    // texture inside), decoded by libmeshoptimizer into the quantized data room_packed.gltf
+    // holds, so the scene matches it: triangles, bounds (to 1e-4 m), lights and the texture.
+    const Scene packed = load("room_packed.gltf");
+    const Scene compressed = load("room_meshopt.glb");
+    EXPECT_EQ(compressed.mesh.triangleCount(), packed.mesh.triangleCount());
+    const Bounds3d a = meshBounds(packed.mesh), b = meshBounds(compressed.mesh);
+    EXPECT_NEAR(length(a.lo - b.lo), 0, 1e-4);
+    EXPECT_NEAR(length(a.hi - b.hi), 0, 1e-4);
+    EXPECT_NEAR(meshArea(compressed.mesh), meshArea(packed.mesh), 1e-3);  // of 99.5 m^2
+    ASSERT_EQ(compressed.lights.size(), 2u);
+    EXPECT_NEAR(compressed.lights[1].intensity, packed.lights[1].intensity, 1e-3);
+    const auto expected = meanReflectance(packed, "floor");
+    const auto got = meanReflectance(compressed, "floor");
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(got[c], expected[c], 1e-3) << c;
 }
 
 }  // namespace

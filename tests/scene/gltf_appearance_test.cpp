@@ -261,7 +261,7 @@ TEST(GltfAppearance, DoubleSidedMaterialsGetABackPatchPerFrontPatch) {
 }
 
 TEST(GltfFeatures, CompressedGeometryIsRefusedNamingTheExtension) {
-    for (const char* name : {"KHR_draco_mesh_compression", "EXT_meshopt_compression"}) {
+    for (const char* name : {"KHR_draco_mesh_compression"}) {
         GltfBuilder gltf;
         gltf.addSingleTriangleScene({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
         gltf.doc["extensionsUsed"] = {name};
@@ -370,6 +370,26 @@ TEST(GltfFeatures, PunctualLightsArePlacedByTheirNodes) {
               bad +
                   ": nodes[1]: extensions.KHR_lights_punctual.light: light 7 is out of range "
                   "(the file has 2)");
+}
+
+TEST(GltfFeatures, UndecodableMeshoptDataIsRefusedNamingTheView) {
+    GltfBuilder gltf;
+    gltf.addSingleTriangleScene({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+    const std::string garbage(40, '\x7f');
+    const int view = gltf.addView(garbage.data(), garbage.size());
+    gltf.doc["bufferViews"][0]["extensions"]["EXT_meshopt_compression"] = {
+        {"buffer", 0},      {"byteOffset", gltf.doc["bufferViews"][view]["byteOffset"]},
+        {"byteLength", 40}, {"byteStride", 12},
+        {"count", 3},       {"mode", "ATTRIBUTES"}};
+    gltf.doc["extensionsUsed"] = {"EXT_meshopt_compression"};
+    gltf.doc["extensionsRequired"] = {"EXT_meshopt_compression"};
+    const std::string path = gltf.writeGltf(test::testTempDir(), "garbage.gltf");
+    auto scene = loadScene(path, {});
+    ASSERT_FALSE(scene);
+    EXPECT_EQ(scene.error().message,
+              path +
+                  ": bufferViews[0].extensions.EXT_meshopt_compression: the compressed data "
+                  "cannot be decoded");
 }
 
 }  // namespace
