@@ -9,7 +9,7 @@ packages=(
     build-essential cmake ninja-build pkg-config clang-format python3
     # core libraries
     libcli11-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyobjloader-dev
-    libembree-dev libtbb-dev libopenexr-dev
+    libembree-dev libtbb-dev libopenexr-dev libmeshoptimizer-dev
     # Vulkan compute and the viewer
     libvulkan-dev libvulkan-volk-dev glslang-tools spirv-tools mesa-vulkan-drivers vulkan-tools
     libglfw3-dev libglm-dev libimgui-dev xvfb xauth

@@ -37,15 +37,32 @@ std::string cameraList(const Scene& scene) {
     return out.empty() ? "none (automatic framing)" : out;
 }
 
+// "2: point 'lamp' 5435 cd, spot 'spot' 10870 cd" (KHR_lights_punctual).
+std::string lightList(const Scene& scene) {
+    std::string out = concat(scene.lights.size(), ":");
+    for (std::size_t k = 0; k < scene.lights.size(); ++k) {
+        const PunctualLight& light = scene.lights[k];
+        const bool directional = light.type == PunctualLight::Type::Directional;
+        const char* type = directional                ? "directional"
+            : light.type == PunctualLight::Type::Spot ? "spot"
+                                                      : "point";
+        out += concat(k == 0 ? " " : ", ", type, " '", light.name, "' ",
+                      formatNumber(light.intensity, 6), directional ? " lx" : " cd");
+    }
+    return out;
+}
+
 }  // namespace
 
 int runInfo(const CommonOptions& options) {
-    auto session = openSession(options, PatchSizeDefault::InputTriangles);
+    // The same patches `render` makes: its automatic size unless --subdivide says otherwise.
+    auto session = openSession(options, PatchSizeDefault::Automatic);
     if (!session) return 2;
     const Scene& scene = session->scene();
     const PatchMesh& patches = session->patches();
     const TriangleMesh& mesh = scene.mesh;
-    const uint64_t patchEstimate = estimatePatchCount(mesh, options.subdivideMaxEdge.value_or(0));
+    const double maxEdge = session->patchMaxEdge();
+    const uint64_t patchEstimate = estimatePatchCount(mesh, maxEdge);
     const MatrixEstimate matrix = session->matrixEstimate();
     const Bounds3d bounds = meshBounds(mesh);
 
@@ -62,15 +79,17 @@ int runInfo(const CommonOptions& options) {
                         ? concat(" (", scene.degenerateDropped, " degenerate dropped)")
                         : std::string()));
     printRow("patches",
-             options.subdivideMaxEdge.value_or(0) > 0
-                 ? concat(formatCount(patches.patchCount()), " (subdivided to edges <= ",
-                          *options.subdivideMaxEdge, "; bound ", formatCount(patchEstimate), ")")
-                 : concat(formatCount(patches.patchCount()), " (no subdivision)"));
+             maxEdge > 0 ? concat(formatCount(patches.patchCount()),
+                                  " (subdivided to edges <= ", formatNumber(maxEdge, 6),
+                                  session->automaticPatchSize() ? ", the automatic size" : "",
+                                  "; bound ", formatCount(patchEstimate), ")")
+                         : concat(formatCount(patches.patchCount()), " (no subdivision)"));
     printRow("vertices", concat(formatCount(patches.vertexCount()), " (welded)"));
     printRow("materials",
              concat(scene.materials.size(), ": ", emissive, " emissive, ", fluorescent,
                     " fluorescent", materialList(scene)));
     printRow("cameras", concat(scene.cameras.size(), ": ", cameraList(scene)));
+    if (!scene.lights.empty()) printRow("lights", lightList(scene));
     printRow("bounds", concat(point(bounds.lo), " .. ", point(bounds.hi)));
     printRow("total area", concat(formatNumber(meshArea(mesh), 6), " square scene units"));
     printRow("matrix",
@@ -92,7 +111,7 @@ int runInfo(const CommonOptions& options) {
         printRow(
             "",
             concat("over --max-memory ", formatBytes(static_cast<double>(options.maxMemoryBytes)),
-                   ": a form-factor build would be refused; use a larger --subdivide"));
+                   ": a form-factor build would be refused; ", session->memoryAdvice()));
     }
     return 0;
 }

@@ -23,6 +23,7 @@
 #include "image/exposure.h"
 #include "image/image_io.h"
 #include "image/renderer.h"
+#include "image/texture_detail.h"
 
 namespace daisy::app {
 namespace {
@@ -164,8 +165,11 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
 
     stage.restart();
     const std::vector<float> missValue(std::size_t(channels), 0.0f);
-    auto rendered =
-        renderCornerValues(session->patches(), camera, settings, corners, channels, missValue);
+    // Texture detail and the back faces of double-sided surfaces (image/texture_detail.h).
+    const SurfaceDetail detail(session->scene(), session->patches(), session->appearance(),
+                               spectral ? std::size_t(m) : 0);
+    auto rendered = renderCornerValues(session->patches(), camera, settings, corners, channels,
+                                       missValue, detail.empty() ? nullptr : &detail);
     if (!rendered) {
         logError(concat(options.scenePath, ": ", rendered.error().message));
         return 1;

@@ -84,7 +84,7 @@ int runSolve(const CommonOptions& options, const ExportOptions& exports) {
         logError(reserved.error().message);
         return 2;
     }
-    auto session = openSession(options, PatchSizeDefault::InputTriangles);
+    auto session = openSession(options, PatchSizeDefault::Automatic);  // render's patches
     if (!session) return 2;
     auto solved = session->solve(interruptibleSolve());
     if (!solved) {

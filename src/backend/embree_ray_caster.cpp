@@ -106,7 +106,7 @@ const char* packetModeName(PacketMode mode) {
 }
 
 Expected<std::unique_ptr<EmbreeRayCaster>> EmbreeRayCaster::create(const PatchMesh& mesh,
-                                                                   PacketMode mode) {
+                                                                   PacketMode mode, bool robust) {
     auto impl = std::make_unique<Impl>();
     impl->mode = mode;
     impl->device = rtcNewDevice(nullptr);
@@ -116,6 +116,7 @@ Expected<std::unique_ptr<EmbreeRayCaster>> EmbreeRayCaster::create(const PatchMe
     }
     impl->scene = rtcNewScene(impl->device);
     rtcSetSceneBuildQuality(impl->scene, RTC_BUILD_QUALITY_HIGH);
+    if (robust) rtcSetSceneFlags(impl->scene, RTC_SCENE_FLAG_ROBUST);
     RTCGeometry geometry = rtcNewGeometry(impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vertices = static_cast<float*>(
         rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,

@@ -29,8 +29,11 @@ const char* packetModeName(PacketMode mode);
 class EmbreeRayCaster final : public RayCaster {
 public:
     // Builds the scene. Fails (no crash) when Embree cannot create a device or scene.
-    static Expected<std::unique_ptr<EmbreeRayCaster>> create(
-        const PatchMesh& mesh, PacketMode mode = PacketMode::Packet16);
+    // `robust` sets RTC_SCENE_FLAG_ROBUST: watertight triangle tests, so a ray through an edge
+    // shared by two patches hits one of them (primary rays; the view factors do not need it).
+    static Expected<std::unique_ptr<EmbreeRayCaster>> create(const PatchMesh& mesh,
+                                                             PacketMode mode = PacketMode::Packet16,
+                                                             bool robust = false);
     ~EmbreeRayCaster() override;
 
     void occluded(const SegmentArrays& segments, std::span<uint8_t> blocked) const override;

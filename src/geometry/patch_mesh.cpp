@@ -85,7 +85,8 @@ uint64_t estimatePatchCount(const TriangleMesh& mesh, double maxEdge) {
     return bisectionCountBound(mesh.positions, mesh.triangles, maxEdge);
 }
 
-Expected<PatchMesh> buildPatchMesh(const TriangleMesh& mesh, double maxEdge, uint64_t maxPatches) {
+Expected<PatchMesh> buildPatchMesh(const TriangleMesh& mesh, double maxEdge, uint64_t maxPatches,
+                                   std::span<const uint8_t> doubleSidedMaterials) {
     if (!std::isfinite(maxEdge) || maxEdge < 0) {
         return Error{
             concat("--subdivide: the maximum edge length must be finite and >= 0 (0 = no "
@@ -128,6 +129,29 @@ Expected<PatchMesh> buildPatchMesh(const TriangleMesh& mesh, double maxEdge, uin
     if (!mesh.materials.empty()) {
         for (std::size_t p = 0; p < out.patchCount(); ++p) {
             out.materials[p] = mesh.materials[out.sourceTriangle[p]];
+        }
+    }
+    // Back patches of double-sided materials, after every front patch.
+    const std::size_t frontCount = out.patchCount();
+    out.backPatch.assign(frontCount, kNoBackPatch);
+    if (!doubleSidedMaterials.empty()) {
+        for (std::size_t p = 0; p < frontCount; ++p) {
+            const uint32_t material = out.materials[p];
+            if (material >= doubleSidedMaterials.size() || !doubleSidedMaterials[material])
+                continue;
+            if (out.patches.size() >= limit) {
+                return Error{concat("the double-sided surfaces' back patches make more than ",
+                                    formatCount(limit),
+                                    " patches; use a larger --subdivide or "
+                                    "raise --max-memory")};
+            }
+            const auto& front = out.patches[p];
+            const auto back = static_cast<uint32_t>(out.patches.size());
+            out.patches.push_back({front[0], front[2], front[1]});
+            out.sourceTriangle.push_back(out.sourceTriangle[p]);
+            out.materials.push_back(material);
+            out.backPatch[p] = back;
+            out.backPatch.push_back(static_cast<uint32_t>(p));
         }
     }
     computePatchGeometry(out);

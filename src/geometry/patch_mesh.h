@@ -4,6 +4,7 @@
 // one source triangle are consecutive. Vertices are welded (bitwise-equal positions are one
 // vertex) and subdivision is conforming, so neighbouring patches share their corners: no
 // T-junctions. Normals, areas and centroids are computed in double precision from the corners.
+// Double-sided surfaces add a back patch per front patch, after all the front patches.
 #include <array>
 #include <cstdint>
 #include <span>
@@ -14,6 +15,8 @@
 
 namespace daisy {
 
+inline constexpr uint32_t kNoBackPatch = 0xffffffffu;
+
 struct PatchMesh {
     std::vector<Vec3d> positions;  // welded vertices, world space
     std::vector<std::array<uint32_t, 3>> patches;  // corner indices, counter-clockwise
@@ -22,6 +25,9 @@ struct PatchMesh {
     std::vector<Vec3d> normals;  // per patch: unit geometric (face) normal
     std::vector<double> areas;  // per patch: area, scene units squared
     std::vector<Vec3d> centroids;  // per patch
+    // Per patch: the other face of a double-sided surface (same corners, reversed), or
+    // kNoBackPatch. Back patches follow all front patches, in the order of their fronts.
+    std::vector<uint32_t> backPatch;
     // Vertex -> patch adjacency (CSR): the patches touching vertex v are
     // vertexPatches[vertexPatchOffsets[v] .. vertexPatchOffsets[v + 1]), in ascending order.
     std::vector<uint64_t> vertexPatchOffsets;
@@ -46,7 +52,9 @@ uint64_t estimatePatchCount(const TriangleMesh& mesh, double maxEdge);
 
 // Builds the patches. maxEdge = 0 keeps the input triangles. Fails (no crash) when maxEdge is
 // negative or non-finite, or when the result would exceed maxPatches patches.
+// doubleSidedMaterials[m] != 0 gives each patch of material m a back patch (glTF doubleSided).
 Expected<PatchMesh> buildPatchMesh(const TriangleMesh& mesh, double maxEdge,
-                                   uint64_t maxPatches = UINT32_MAX);
+                                   uint64_t maxPatches = UINT32_MAX,
+                                   std::span<const uint8_t> doubleSidedMaterials = {});
 
 }  // namespace daisy

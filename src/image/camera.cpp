@@ -96,8 +96,13 @@ int escapingRays(const TriangleMesh& mesh, const Vec3d& centre, const Vec3d& sid
 std::string cameraList(const Scene& scene) {
     if (scene.cameras.empty()) return "the scene has no cameras";
     std::string list = "the scene's cameras are";
-    for (std::size_t i = 0; i < scene.cameras.size(); ++i)
-        list += concat(i == 0 ? " " : ", ", i, " \"", scene.cameras[i].name, "\"");
+    for (std::size_t i = 0; i < scene.cameras.size(); ++i) {
+        const Camera& camera = scene.cameras[i];
+        list += concat(i == 0 ? " " : ", ",
+                       camera.fileIndex >= 0 ? static_cast<long long>(camera.fileIndex)
+                                             : static_cast<long long>(i),
+                       " \"", camera.name, "\"");
+    }
     return list;
 }
 
@@ -114,8 +119,22 @@ Expected<Camera> chooseCamera(const Scene& scene, const std::string& selector, d
     std::size_t index = 0;
     const char* end = selector.data() + selector.size();
     const auto [rest, status] = std::from_chars(selector.data(), end, index);
-    if (status == std::errc() && rest == end && index < scene.cameras.size())
-        return scene.cameras[index];
+    if (status == std::errc() && rest == end) {
+        // A number is the camera's index in the file (glTF cameras[]), whatever the order the
+        // node tree reaches the cameras in; cameras without one (made in memory) count in order.
+        const bool fileIndexed = std::any_of(scene.cameras.begin(), scene.cameras.end(),
+                                             [](const Camera& c) { return c.fileIndex >= 0; });
+        for (const Camera& camera : scene.cameras) {
+            if (fileIndexed && camera.fileIndex == static_cast<long long>(index)) return camera;
+        }
+        if (!fileIndexed && index < scene.cameras.size()) return scene.cameras[index];
+        for (const auto& [skippedIndex, description] : scene.skippedCameras) {
+            if (skippedIndex == static_cast<long long>(index)) {
+                return Error{concat(scene.path, ": camera ", selector, " is ", description,
+                                    ", which daisy skips (", cameraList(scene), ")")};
+            }
+        }
+    }
     return Error{concat(scene.path, ": no camera named or numbered \"", selector, "\" (",
                         cameraList(scene), ")")};
 }
@@ -136,9 +155,11 @@ Camera frameScene(const Scene& scene, double aspectRatio) {
     // View axis: z (glTF's default view direction) when the box is at least as wide in x as
     // deep in z, else x. `back` points from the centre towards the camera side, `width` is the
     // box's extent across the view.
-    const bool alongZ = extent.x >= extent.z;
-    Vec3d back = alongZ ? Vec3d(0, 0, 1) : Vec3d(1, 0, 0);
+    // An open scene (a model) is seen from the front, +z: glTF models face +z (glTF 2.0
+    // section 3.4), so a model deeper than wide is not shown from its side.
     const bool closed = looksLikeClosedRoom(scene.mesh, centre);
+    const bool alongZ = !closed || extent.x >= extent.z;
+    Vec3d back = alongZ ? Vec3d(0, 0, 1) : Vec3d(1, 0, 0);
     if (!closed) {
         // Stand on the most open horizontal side, so an open-fronted box (the Cornell box) is
         // seen through its opening; ties keep the order preferred axis +, -, other axis +, -.

@@ -9,7 +9,9 @@
 
 namespace daisy {
 
-// `selector` is a camera name (exact match first), or a 0-based index among scene.cameras;
+// `selector` is a camera name (exact match first), or a 0-based index into the file's camera
+// list (Camera::fileIndex: glTF cameras[], in file order; for cameras without one, their order
+// in scene.cameras); a skipped (orthographic) camera's index is refused naming why;
 // empty = the first camera, or frameScene(scene, aspectRatio) when the scene has none. Error
 // (naming scene.path and listing the cameras it has) when the selector matches nothing.
 // aspectRatio (width / height of the image) is only used by the automatic framing.
@@ -17,8 +19,9 @@ Expected<Camera> chooseCamera(const Scene& scene, const std::string& selector,
                               double aspectRatio = 1.0);
 
 // Automatic framing. Up is +y (the glTF convention) and the camera looks horizontally at the
-// box centre. The preferred view direction is -z when the bounding box is at least as wide in x
-// as deep in z, else -x, so the camera faces the larger pair of vertical box faces.
+// box centre. Inside a closed room the preferred view direction is -z when the bounding box is
+// at least as wide in x as deep in z, else -x, so the camera faces the larger pair of vertical
+// box faces; an open scene prefers the front, +z (glTF models face +z).
 // - Closed scene (a room): rays from the box centre in the 26 axis, edge and corner directions
 //   all hit a triangle, and most of the farthest hits face the centre. The camera stands inside,
 //   looking along the preferred direction from the centre of the box face behind it, pulled in
@@ -26,7 +29,7 @@ Expected<Camera> chooseCamera(const Scene& scene, const std::string& selector,
 //   the vertical field of view fits the far face at `aspectRatio`, clamped to [45, 100] degrees.
 // - Open scene: the camera stands outside, on the most open of the four horizontal sides (the
 //   one where most of five rays from the centre, the axis and four 20-degree tilts, escape;
-//   ties in the order +z, -z, +x, -x with z, x swapped when looking along x), so an
+//   ties in the order +z, -z, +x, -x), so an
 //   open-fronted box is seen through its opening. yFov 45 degrees, at the distance where the
 //   bounding sphere fits both fields of view at `aspectRatio`.
 // Returns aspectRatio 0 (taken from the image). An empty scene gets a camera at the origin.

@@ -37,7 +37,8 @@ uint64_t renderImageBytes(const RenderSettings& settings, int channels) {
 
 Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                                    const RenderSettings& settings, std::span<const float> corners,
-                                   int channels, std::span<const float> background) {
+                                   int channels, std::span<const float> background,
+                                   const SampleShader* shader) {
     DAISY_CHECK(channels > 0);
     DAISY_CHECK(corners.size() == mesh.patchCount() * 3 * std::size_t(channels));
     DAISY_CHECK(background.size() == std::size_t(channels));
@@ -60,7 +61,8 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                             " is outside what float32 ray tracing represents (coordinates up to ",
                             formatNumber(kMaxRayOrigin), ")")};
     }
-    auto caster = EmbreeRayCaster::create(mesh);
+    // Watertight (robust) intersection: no background between patches (issue 19).
+    auto caster = EmbreeRayCaster::create(mesh, PacketMode::Packet16, /*robust=*/true);
     if (!caster) return withContext(caster.error(), "render");
     const EmbreeRayCaster& tracer = **caster;
 
@@ -73,7 +75,7 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
     const auto renderRows = [&](const tbb::blocked_range<int>& rows) {
         std::vector<Ray> rays(rowSamples);
         std::vector<SurfaceHit> hits(rowSamples);
-        std::vector<double> sum(stride);
+        std::vector<double> sum(stride), sample(stride);
         for (int y = rows.begin(); y != rows.end(); ++y) {
             // Sample (i, j) of pixel (x, y) sits at the centre of stratum (i, j) of an N x N
             // grid over the pixel: a regular, deterministic box-filter supersampling.
@@ -91,7 +93,8 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
             for (int x = 0; x < settings.width; ++x) {
                 std::fill(sum.begin(), sum.end(), 0.0);
                 for (int s = 0; s < side * side; ++s, ++k) {
-                    const SurfaceHit& hit = hits[k];
+                    SurfaceHit& hit = hits[k];
+                    if (shader != nullptr && hit.patch != kNoPatch) shader->resolve(rays[k], hit);
                     if (hit.patch == kNoPatch) {
                         for (std::size_t c = 0; c < stride; ++c)
                             sum[c] += background[c];
@@ -103,7 +106,10 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                     const double w0 = 1 - w1 - w2;
                     const float* v = corners.data() + std::size_t(hit.patch) * 3 * stride;
                     for (std::size_t c = 0; c < stride; ++c)
-                        sum[c] += w0 * v[c] + w1 * v[stride + c] + w2 * v[2 * stride + c];
+                        sample[c] = w0 * v[c] + w1 * v[stride + c] + w2 * v[2 * stride + c];
+                    if (shader != nullptr) shader->shade(hit, sample);
+                    for (std::size_t c = 0; c < stride; ++c)
+                        sum[c] += sample[c];
                 }
                 float* out = image.at(x, y);
                 for (std::size_t c = 0; c < stride; ++c)

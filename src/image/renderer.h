@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "backend/embree_ray_caster.h"
 #include "core/expected.h"
 #include "geometry/patch_mesh.h"
 #include "image/image.h"
@@ -26,12 +27,23 @@ struct RenderSettings {
 // three float images of `channels` channels.
 uint64_t renderImageBytes(const RenderSettings& settings, int channels);
 
+// Per-sample adjustments (image/texture_detail.h): `resolve` may replace a hit (the back patch
+// of a double-sided surface seen from behind), `shade` scales a hit's interpolated channel
+// values in place (texture detail). Both are called from many threads at once.
+class SampleShader {
+public:
+    virtual ~SampleShader() = default;
+    virtual void resolve(const Ray& ray, SurfaceHit& hit) const = 0;
+    virtual void shade(const SurfaceHit& hit, std::span<double> values) const = 0;
+};
+
 // Renders `channels` values per pixel from per-corner values (cornerValues()'s layout). A pixel
 // is the mean of its samples; a sample that misses takes background[c] (background.size() ==
 // channels). Fails (no crash) when Embree cannot build the scene, when the camera lies outside
 // what float32 rays represent, and when renderImageBytes exceeds settings.maxMemoryBytes.
 Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                                    const RenderSettings& settings, std::span<const float> corners,
-                                   int channels, std::span<const float> background);
+                                   int channels, std::span<const float> background,
+                                   const SampleShader* shader = nullptr);
 
 }  // namespace daisy

@@ -1,5 +1,6 @@
 #include "pipeline/session.h"
 
+#include <algorithm>
 #include <new>
 #include <numbers>
 
@@ -10,6 +11,7 @@
 #include "core/timer.h"
 #include "geometry/auto_patch_size.h"
 #include "pipeline/backend_registry.h"
+#include "pipeline/punctual_lights.h"
 #include "pipeline/vertex_radiance.h"
 
 namespace daisy {
@@ -20,6 +22,8 @@ struct Session::State {
     SceneSpectralFacts facts;
     WavelengthSet wavelengths;
     PatchMesh patches;
+    PatchAppearance appearance;  // patch means of textured and vertex-coloured materials
+    LightGeometry lightGeometry;  // punctual lights' direct irradiance factors (patches fixed)
     double maxEdge = 0;
     bool automaticPatchSize = false;
     RadiositySystem system;
@@ -64,6 +68,16 @@ std::size_t countFluorescent(const RadiositySystem& system) {
     return count;
 }
 
+// E and M on `set` (with the punctual lights' direct light reflected into E).
+Expected<RadiositySystem> makeSystem(const Session::State& s, const WavelengthSet& set) {
+    auto system = buildRadiositySystem(s.scene, s.patches, set, &s.appearance);
+    if (!system) return system;
+    if (auto lit = addDirectLight(*system, s.lightGeometry, s.scene.lights, set); !lit) {
+        return Error{concat(s.scenePath(), ": ", lit.error().message)};
+    }
+    return system;
+}
+
 // Wavelength set, patches, E and M for a loaded scene.
 Expected<void> prepare(Session::State& s) {
     Timer timer;
@@ -95,13 +109,27 @@ Expected<void> prepare(Session::State& s) {
                              formatCount(s.scene.mesh.triangleCount()), " triangles)"));
     }
     const uint64_t patchLimit = s.settings.maxMemoryBytes / kPatchMeshBytesPerPatch;
-    auto patches = buildPatchMesh(s.scene.mesh, s.maxEdge, patchLimit);
+    std::vector<uint8_t> doubleSided(s.scene.materials.size());
+    for (std::size_t m = 0; m < doubleSided.size(); ++m)
+        doubleSided[m] = s.scene.materials[m].doubleSided;
+    auto patches = buildPatchMesh(s.scene.mesh, s.maxEdge, patchLimit, doubleSided);
     if (!patches) {
         return Error{concat(s.scenePath(), ": ", patches.error().message, " (--max-memory ",
                             formatBytes(static_cast<double>(s.settings.maxMemoryBytes)), ")")};
     }
     s.patches = std::move(*patches);
-    auto system = buildRadiositySystem(s.scene, s.patches, s.wavelengths);
+    s.appearance = patchAppearance(s.scene, s.patches);
+    if (!s.scene.lights.empty()) {
+        Timer lightTimer;
+        auto geometry = punctualLightGeometry(s.patches, s.scene.lights);
+        if (!geometry) return Error{concat(s.scenePath(), ": ", geometry.error().message)};
+        s.lightGeometry = std::move(*geometry);
+        s.stageDetail(concat("lights: ", s.scene.lights.size(),
+                             " punctual lights, direct irradiance with shadows on ",
+                             formatCount(s.patches.patchCount()), " patches in ",
+                             formatDuration(lightTimer.seconds())));
+    }
+    auto system = makeSystem(s, s.wavelengths);
     if (!system) return system.error();
     s.system = std::move(*system);
     s.fluorescentOperators = countFluorescent(s.system);
@@ -167,6 +195,9 @@ const WavelengthSet& Session::wavelengths() const {
 }
 const PatchMesh& Session::patches() const {
     return state_->patches;
+}
+const PatchAppearance& Session::appearance() const {
+    return state_->appearance;
 }
 double Session::patchMaxEdge() const {
     return state_->maxEdge;
@@ -262,12 +293,11 @@ Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& 
                        formatBytes(static_cast<double>(estimate.matrixBytes)),
                        " as CSR (estimate)"));
     if (estimate.matrixBytes > s.settings.maxMemoryBytes) {
-        return Error{concat(s.scenePath(), ": the view-factor matrix needs about ",
-                            formatBytes(static_cast<double>(estimate.matrixBytes)), " for ",
-                            formatCount(s.patches.patchCount()),
-                            " patches, more than --max-memory ",
-                            formatBytes(static_cast<double>(s.settings.maxMemoryBytes)),
-                            "; use a larger --subdivide or raise --max-memory")};
+        return Error{concat(
+            s.scenePath(), ": the view-factor matrix needs about ",
+            formatBytes(static_cast<double>(estimate.matrixBytes)), " for ",
+            formatCount(s.patches.patchCount()), " patches, more than --max-memory ",
+            formatBytes(static_cast<double>(s.settings.maxMemoryBytes)), "; ", memoryAdvice())};
     }
     std::shared_ptr<Backend> backend = s.settings.backendInstance;
     if (!backend || backendName != s.settings.backend) {
@@ -311,6 +341,17 @@ const SparseMatrix& Session::formFactorTranspose() const {
     return *state_->transposed;
 }
 
+std::string Session::memoryAdvice() const {
+    const State& s = *state_;
+    if (s.patches.patchCount() > s.scene.mesh.triangleCount()) {
+        return concat("use a larger --subdivide (the patches are subdivided to edges <= ",
+                      formatNumber(s.maxEdge, 4), ") or raise --max-memory");
+    }
+    return concat("the scene's ", formatCount(s.scene.mesh.triangleCount()),
+                  " triangles are already the fewest patches (subdivision only splits), so "
+                  "raise --max-memory or simplify the scene");
+}
+
 uint64_t Session::formFactorBuildCount() const {
     return state_->builds;
 }
@@ -352,7 +393,8 @@ Expected<void> Session::setMaterial(std::size_t index, Material material) {
         if (!remade) return refuse(remade.error());
         set = std::move(*remade);
     }
-    auto system = buildRadiositySystem(s.scene, s.patches, set);
+    s.appearance = patchAppearance(s.scene, s.patches);  // the material's texture may change
+    auto system = makeSystem(s, set);
     if (!system) return refuse(system.error());
     s.facts = *facts;
     if (set.size() != s.wavelengths.size()) {
@@ -370,7 +412,7 @@ Expected<void> Session::setWavelengths(const WavelengthSpec& spec, const std::st
     State& s = *state_;
     auto set = makeWavelengthSet(spec, s.facts.hasUvLights, s.facts.hasFluorescence);
     if (!set) return Error{concat("--wavelengths ", text, ": ", set.error().message)};
-    auto system = buildRadiositySystem(s.scene, s.patches, *set);
+    auto system = makeSystem(s, *set);
     if (!system) return system.error();
     s.settings.wavelengths = spec;
     s.settings.wavelengthsText = text;

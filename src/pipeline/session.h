@@ -34,9 +34,9 @@
 
 namespace daisy {
 
-// What the patch size is when subdivideMaxEdge is not given: `solve`, `formfactors`, `info` and
-// `validate` keep the input triangles; `render` and `view` choose one
-// (geometry/auto_patch_size.h).
+// What the patch size is when subdivideMaxEdge is not given: `formfactors` and `validate` keep
+// the input triangles; `render`, `view`, `solve` and `info` choose one
+// (geometry/auto_patch_size.h), so `info` and `solve` describe the patches `render` solves.
 enum class PatchSizeDefault { InputTriangles, Automatic };
 
 struct SessionSettings {
@@ -109,6 +109,9 @@ public:
     const SceneSpectralFacts& facts() const;
     const WavelengthSet& wavelengths() const;
     const PatchMesh& patches() const;
+    // Patch means of the materials whose colour varies (textures, vertex colours; empty when
+    // none): what the solve used, and what the image's texture detail divides by.
+    const PatchAppearance& appearance() const;
     double patchMaxEdge() const;  // the --subdivide used (0 = the input triangles)
     bool automaticPatchSize() const;  // patchMaxEdge chosen by chooseAutoPatchSize
     const RadiositySystem& system() const;
@@ -136,6 +139,9 @@ public:
     std::span<const double> formFactorRowSums() const;  // precondition: hasFormFactors()
     const SparseMatrix& formFactorTranspose() const;  // computed on first use
     uint64_t formFactorBuildCount() const;  // times a backend built F for this session
+    // What to change when F (or the patches) would exceed --max-memory: a larger --subdivide
+    // when the patches are subdivided, else that the input triangles cannot be merged.
+    std::string memoryAdvice() const;
     // Uses `matrix` as F (a matrix computed elsewhere: tests, the stress suite's own drivers).
     void setFormFactors(SparseMatrix matrix);
 

@@ -11,6 +11,7 @@
 #include "core/expected.h"
 #include "geometry/patch_mesh.h"
 #include "scene/scene.h"
+#include "scene/surface_appearance.h"
 #include "spectral/fluorescence.h"
 #include "spectral/wavelength_set.h"
 
@@ -46,15 +47,20 @@ struct RadiositySystem {
 // Builds the system for `patches` (material indices into scene.materials) on `set`: samples
 // every material's emission (spectral.h bin averages) and its re-radiation matrix, merges
 // materials whose matrices are equal into one operator. Errors name the material (origin).
+// With `appearance` (scene/surface_appearance.h), a patch whose reflectance or emission varies
+// over its material (textures, vertex colours) takes its own mean: the material with that RGB
+// (a spectral reflectance or emission scaled by the luminance ratio), quantised to 1/4096 so
+// equal means share an operator.
 Expected<RadiositySystem> buildRadiositySystem(const Scene& scene, const PatchMesh& patches,
-                                               const WavelengthSet& set);
+                                               const WavelengthSet& set,
+                                               const PatchAppearance* appearance = nullptr);
 
 // Fills the derived fields of `op` (diagonal, isDiagonal, isZero, maxPowerGain) from its
 // matrix and the set's bin widths; for systems assembled by hand (tests, benchmarks).
 void finishOperator(MaterialOperator& op, const std::vector<double>& binWidthsNm);
 
 // The two scene facts the `auto` wavelength set depends on (wavelength_set.h): some material
-// emits mostly UV, and some material is fluorescent.
+// (or punctual light with a spectrum) emits mostly UV, and some material is fluorescent.
 struct SceneSpectralFacts {
     bool hasUvLights = false;
     bool hasFluorescence = false;

@@ -271,21 +271,31 @@ Expected<GltfMatrix> readGltfNodeTransform(const tinygltf::Model& model, int ind
         std::copy(node.matrix.begin(), node.matrix.end(), m.begin());
         return m;
     }
+    std::array<double, 3> t{0, 0, 0}, scale{1, 1, 1};
     std::array<double, 4> q{0, 0, 0, 1};
+    if (!node.translation.empty()) std::copy_n(node.translation.begin(), 3, t.begin());
     if (!node.rotation.empty()) std::copy(node.rotation.begin(), node.rotation.end(), q.begin());
+    if (!node.scale.empty()) std::copy_n(node.scale.begin(), 3, scale.begin());
+    auto trs = gltfTrsMatrix(t, q, scale);
+    if (!trs) return Error{where + ".rotation: " + trs.error().message};
+    return trs;
+}
+
+Expected<GltfMatrix> gltfTrsMatrix(const std::array<double, 3>& translation,
+                                   const std::array<double, 4>& q,
+                                   const std::array<double, 3>& scale) {
     const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    if (!(norm > 0) || !std::isfinite(norm))
-        return Error{where + ".rotation: not a unit quaternion"};
+    if (!(norm > 0) || !std::isfinite(norm)) return Error{"not a unit quaternion"};
     const double x = q[0] / norm, y = q[1] / norm, z = q[2] / norm, w = q[3] / norm;
     const double rotation[3][3] = {
         {1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
         {2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
         {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}};
+    GltfMatrix m{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
     for (int c = 0; c < 3; ++c) {
-        const double scale = node.scale.empty() ? 1.0 : node.scale[static_cast<std::size_t>(c)];
         for (int r = 0; r < 3; ++r)
-            m[4 * c + r] = rotation[r][c] * scale;
-        if (!node.translation.empty()) m[12 + c] = node.translation[static_cast<std::size_t>(c)];
+            m[4 * c + r] = rotation[r][c] * scale[static_cast<std::size_t>(c)];
+        m[12 + c] = translation[static_cast<std::size_t>(c)];
     }
     return m;
 }
@@ -294,11 +304,69 @@ std::string gltfOutOfRange(const char* what, long long index, std::size_t count)
     return concat(what, " ", index, " is out of range (the file has ", count, ")");
 }
 
+namespace {
+
+// glTF 2.0 section 3.11 (normalized integers): the float a stored component stands for.
+void normalize(const tinygltf::Model& model, int index, std::vector<double>& values) {
+    const tinygltf::Accessor& accessor = model.accessors[static_cast<std::size_t>(index)];
+    if (!accessor.normalized) return;
+    double scale = 1;
+    bool isSigned = false;
+    switch (accessor.componentType) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE:
+            scale = 127, isSigned = true;
+            break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            scale = 255;
+            break;
+        case TINYGLTF_COMPONENT_TYPE_SHORT:
+            scale = 32767, isSigned = true;
+            break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+            scale = 65535;
+            break;
+        default:
+            return;
+    }
+    for (double& value : values)
+        value = isSigned ? std::max(value / scale, -1.0) : value / scale;
+}
+
+constexpr std::initializer_list<int> kQuantizedTypes = {
+    TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_BYTE,
+    TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_SHORT,
+    TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT};
+
+}  // namespace
+
+Expected<std::vector<double>> readGltfAttribute(const tinygltf::Model& model, int index,
+                                                int components, LoadBudget& budget) {
+    const int type = components == 2 ? TINYGLTF_TYPE_VEC2
+        : components == 3            ? TINYGLTF_TYPE_VEC3
+                                     : TINYGLTF_TYPE_VEC4;
+    const char* required = components == 2 ? "VEC2 FLOAT or (normalized) integers"
+        : components == 3                  ? "VEC3 FLOAT or (normalized) integers"
+                                           : "VEC4 FLOAT or (normalized) integers";
+    auto values = readAccessor(model, index, type, kQuantizedTypes, required, budget);
+    if (!values) return values.error();
+    normalize(model, index, *values);
+    for (std::size_t i = 0; i < values->size(); ++i) {
+        if (!std::isfinite((*values)[i])) {
+            return Error{concat("accessors[", index, "]: element ", i / std::size_t(components),
+                                " is not finite")};
+        }
+    }
+    return values;
+}
+
 Expected<std::vector<Vec3d>> readGltfPositions(const tinygltf::Model& model, int index,
                                                LoadBudget& budget) {
-    auto values = readAccessor(model, index, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT},
-                               "VEC3 FLOAT", budget);
+    // KHR_mesh_quantization allows (normalized) byte and short positions; the node transform
+    // scales them back.
+    auto values = readAccessor(model, index, TINYGLTF_TYPE_VEC3, kQuantizedTypes,
+                               "VEC3 FLOAT (or KHR_mesh_quantization's BYTE or SHORT)", budget);
     if (!values) return values.error();
+    normalize(model, index, *values);
     std::vector<Vec3d> positions(values->size() / 3);
     for (std::size_t i = 0; i < positions.size(); ++i) {
         positions[i] = {(*values)[3 * i], (*values)[3 * i + 1], (*values)[3 * i + 2]};

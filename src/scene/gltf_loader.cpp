@@ -2,6 +2,7 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -11,6 +12,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -18,6 +20,10 @@
 #include "scene/bounded_json.h"
 #include "scene/gltf_accessors.h"
 #include "scene/gltf_document.h"
+#include "scene/gltf_features.h"
+#include "scene/gltf_lights.h"
+#include "scene/gltf_meshopt.h"
+#include "scene/gltf_textures.h"
 #include "scene/load_budget.h"
 #include "scene/material_extension.h"
 
@@ -118,7 +124,11 @@ Expected<Material> convertMaterial(const tinygltf::Material& source, const nlohm
             return Error{concat(where, ".emissiveFactor[", c, "]: ", formatNumber(factor),
                                 " is negative or not finite")};
         }
-        material.emissiveRgb[c] = factor * strength;
+        // glTF's emissive is radiance (KHR_materials_emissive_strength: in nits); a Lambertian
+        // emitter of radiance L has exitance pi L (DESIGN.md section 2).
+        // Clamped so an overflow reaches validate_scene's range check as a number.
+        material.emissiveRgb[c] =
+            std::min(std::numbers::pi * factor * strength, std::numeric_limits<double>::max());
     }
 
     if (const nlohmann::json* object = findMember(extensions, kSpectralExtensionName)) {
@@ -176,12 +186,26 @@ public:
                 : nullptr;
             auto material = convertMaterial(model_.materials[i], raw, static_cast<int>(i), path_);
             if (!material) return material.error();
+            material->doubleSided = model_.materials[i].doubleSided;
+            if (raw != nullptr) {
+                if (auto textured = readTextures(*raw, static_cast<int>(i), *material); !textured)
+                    return textured;
+            }
             scene_.materials.push_back(std::move(*material));
         }
         defaultMaterial_ = static_cast<uint32_t>(model_.materials.size());
 
+        auto lights = readGltfLights(root_);
+        if (!lights) return lights.error();
+        lights_ = std::move(*lights);
         auto traversed = traverse();
         if (!traversed) return traversed;
+        // Vertices of primitives after the last one with an attribute get the default.
+        for (auto& set : scene_.texCoords) {
+            if (!set.empty()) set.resize(scene_.mesh.positions.size(), {0, 0});
+        }
+        if (!scene_.vertexColors.empty())
+            scene_.vertexColors.resize(scene_.mesh.positions.size(), {1, 1, 1});
         if (usesDefault_) {
             // Not glTF's default: that is white (baseColorFactor 1), a perfect reflector under
             // which light in a closed room never decays and the radiosity solve cannot
@@ -195,6 +219,63 @@ public:
     }
 
 private:
+    // baseColorTexture and emissiveTexture of material `index` (`raw` its JSON object). A base
+    // colour texture that cannot be read leaves the factor times the default grey, not the
+    // factor alone (often 1: a perfect reflector), with the warning naming the image.
+    Expected<void> readTextures(const nlohmann::json& raw, int index, Material& material) {
+        const std::string where = concat("materials[", index, "]");
+        const nlohmann::json* pbr = findMember(&raw, "pbrMetallicRoughness");
+        if (const nlohmann::json* info = findMember(pbr, "baseColorTexture")) {
+            auto read = textures_.read(*info, where + ".pbrMetallicRoughness.baseColorTexture");
+            if (!read) return read.error();
+            material.baseColorTexture = read->ref;
+            if (read->unreadable) {
+                const Material fallback;
+                for (std::size_t c = 0; c < 3; ++c)
+                    material.baseColor[c] *= fallback.baseColor[c];
+            }
+        }
+        if (const nlohmann::json* info = findMember(&raw, "emissiveTexture")) {
+            auto read = textures_.read(*info, where + ".emissiveTexture");
+            if (!read) return read.error();
+            material.emissiveTexture = read->ref;
+        }
+        return {};
+    }
+
+    // Appends `count` values of TEXCOORD_<set> or COLOR_0 for the primitive's vertices (the
+    // target array is first padded for earlier primitives without it).
+    template <std::size_t N>
+    Expected<void> appendAttribute(const tinygltf::Primitive& primitive, const std::string& name,
+                                   std::size_t base, std::size_t count,
+                                   std::vector<std::array<float, N>>& target,
+                                   std::array<float, N> fallback) {
+        const auto found = primitive.attributes.find(name);
+        if (found == primitive.attributes.end()) {
+            if (!target.empty()) target.resize(base + count, fallback);
+            return {};
+        }
+        int components = static_cast<int>(N);
+        if (N == 3 && inRange(found->second, model_.accessors.size()) &&
+            model_.accessors[static_cast<std::size_t>(found->second)].type == TINYGLTF_TYPE_VEC4) {
+            components = 4;  // RGBA colours: alpha is not modelled
+        }
+        auto values = readGltfAttribute(model_, found->second, components, budget_);
+        if (!values) return withContext(values.error(), "attributes." + name);
+        if (values->size() != count * std::size_t(components)) {
+            return Error{concat("attributes.", name, ": ", values->size() / components,
+                                " elements for ", count, " vertices")};
+        }
+        target.resize(base, fallback);
+        for (std::size_t v = 0; v < count; ++v) {
+            std::array<float, N> element{};
+            for (std::size_t c = 0; c < N; ++c)
+                element[c] = static_cast<float>((*values)[v * components + c]);
+            target.push_back(element);
+        }
+        return {};
+    }
+
     struct Pending {
         int node = 0;
         Mat4 parent;
@@ -257,12 +338,26 @@ private:
                     return Error{where + ".mesh: " +
                                  gltfOutOfRange("mesh", node.mesh, model_.meshes.size())};
                 }
-                auto appended = appendMesh(node.mesh, world);
-                if (!appended) return appended;
+                auto instances = instanceTransforms(nodeIndex, where);
+                if (!instances) return instances.error();
+                if (instances->empty()) {
+                    auto appended = appendMesh(node.mesh, world);
+                    if (!appended) return appended;
+                }
+                for (const Mat4& instance : *instances) {
+                    auto appended = appendMesh(node.mesh, multiply(world, instance));
+                    if (!appended) return appended;
+                }
             }
             if (node.camera != -1) {
                 auto added = addCamera(node, where, world);
                 if (!added) return added;
+            }
+            if (const nlohmann::json* rawNodes = findMember(&root_, "nodes");
+                rawNodes != nullptr && rawNodes->is_array() && nodeIndex < rawNodes->size()) {
+                auto light = placeGltfLight((*rawNodes)[nodeIndex], lights_, world);
+                if (!light) return withContext(light.error(), where);
+                if (*light) scene_.lights.push_back(std::move(**light));
             }
             for (std::size_t k = node.children.size(); k-- > 0;) {
                 stack.push_back({node.children[k], world, concat(where, ".children[", k, "]")});
@@ -271,20 +366,108 @@ private:
         return {};
     }
 
+    // EXT_mesh_gpu_instancing: node `nodeIndex`'s per-instance TRANSLATION, ROTATION (unit
+    // quaternion) and SCALE, each instance's T R S (applied before the node's own transform);
+    // empty without the extension.
+    Expected<std::vector<Mat4>> instanceTransforms(std::size_t nodeIndex,
+                                                   const std::string& where) {
+        std::vector<Mat4> out;
+        const nlohmann::json* rawNodes = findMember(&root_, "nodes");
+        if (rawNodes == nullptr || !rawNodes->is_array() || nodeIndex >= rawNodes->size())
+            return out;
+        const nlohmann::json* extension = findMember(
+            findMember(&(*rawNodes)[nodeIndex], "extensions"), "EXT_mesh_gpu_instancing");
+        if (extension == nullptr) return out;
+        const std::string extensionWhere = where + ".extensions.EXT_mesh_gpu_instancing";
+        const nlohmann::json* attributes = findMember(extension, "attributes");
+        if (attributes == nullptr || !attributes->is_object()) {
+            return Error{extensionWhere + ".attributes: expected an object"};
+        }
+        std::array<std::vector<double>, 3> values;  // translation, rotation, scale
+        const std::array<std::pair<const char*, int>, 3> kinds = {
+            std::pair{"TRANSLATION", 3}, std::pair{"ROTATION", 4}, std::pair{"SCALE", 3}};
+        std::size_t count = 0;
+        bool any = false;
+        for (std::size_t k = 0; k < kinds.size(); ++k) {
+            const nlohmann::json* accessor = findMember(attributes, kinds[k].first);
+            if (accessor == nullptr) continue;
+            const std::string attributeWhere =
+                concat(extensionWhere, ".attributes.", kinds[k].first);
+            if (!accessor->is_number_integer())
+                return Error{attributeWhere + ": expected an integer"};
+            auto read = readGltfAttribute(model_, accessor->get<int>(), kinds[k].second, budget_);
+            if (!read) return withContext(read.error(), attributeWhere);
+            const std::size_t n = read->size() / std::size_t(kinds[k].second);
+            if (any && n != count) {
+                return Error{
+                    concat(attributeWhere, ": ", n, " instances where the others have ", count)};
+            }
+            count = n;
+            any = true;
+            values[k] = std::move(*read);
+        }
+        if (auto charged = budget_.charge(count * sizeof(Mat4),
+                                          concat(extensionWhere, ": ", count, " instances"));
+            !charged) {
+            return charged.error();
+        }
+        out.reserve(count);
+        for (std::size_t i = 0; i < count; ++i) {
+            std::array<double, 3> t{0, 0, 0}, scale{1, 1, 1};
+            std::array<double, 4> q{0, 0, 0, 1};
+            if (!values[0].empty()) std::copy_n(values[0].begin() + 3 * i, 3, t.begin());
+            if (!values[1].empty()) std::copy_n(values[1].begin() + 4 * i, 4, q.begin());
+            if (!values[2].empty()) std::copy_n(values[2].begin() + 3 * i, 3, scale.begin());
+            auto m = gltfTrsMatrix(t, q, scale);
+            if (!m) {
+                return Error{
+                    concat(extensionWhere, ": instance ", i, " rotation: ", m.error().message)};
+            }
+            out.push_back(*m);
+        }
+        return out;
+    }
+
     Expected<void> appendMesh(int meshIndex, const Mat4& world) {
-        const auto& primitives = model_.meshes[static_cast<std::size_t>(meshIndex)].primitives;
+        const tinygltf::Mesh& mesh = model_.meshes[static_cast<std::size_t>(meshIndex)];
+        const auto& primitives = mesh.primitives;
+        std::vector<std::string> skippedModes;
         for (std::size_t p = 0; p < primitives.size(); ++p) {
-            auto appended = appendPrimitive(primitives[p], world);
+            std::string skipped;
+            auto appended = appendPrimitive(primitives[p], world, skipped);
             if (!appended) {
                 return withContext(appended.error(),
                                    concat("meshes[", meshIndex, "].primitives[", p, "]"));
             }
+            if (!skipped.empty() &&
+                std::find(skippedModes.begin(), skippedModes.end(), skipped) ==
+                    skippedModes.end()) {
+                skippedModes.push_back(skipped);
+            }
+        }
+        // One line per mesh (a mesh instanced by many nodes is named once).
+        if (!skippedModes.empty() && warnedMeshes_.insert(meshIndex).second) {
+            std::string modes;
+            for (const std::string& m : skippedModes) {
+                if (!modes.empty()) modes += ", ";
+                modes += m;
+            }
+            scene_.warnings.push_back(
+                concat(path_, ": meshes[", meshIndex, "]",
+                       mesh.name.empty() ? std::string() : " '" + mesh.name + "'", ": ", modes,
+                       " primitives skipped (only triangles become patches)"));
         }
         return {};
     }
 
-    Expected<void> appendPrimitive(const tinygltf::Primitive& primitive, const Mat4& world) {
+    // `skipped` is set to the mode's name when the primitive is points or lines.
+    Expected<void> appendPrimitive(const tinygltf::Primitive& primitive, const Mat4& world,
+                                   std::string& skipped) {
         const int mode = primitive.mode == -1 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+        if (mode >= TINYGLTF_MODE_POINTS && mode < TINYGLTF_MODE_TRIANGLES) {
+            skipped = modeName(mode);  // points and lines have no area: no patch, no pixel
+            return {};
+        }
         if (mode < TINYGLTF_MODE_TRIANGLES || mode > TINYGLTF_MODE_TRIANGLE_FAN) {
             return Error{concat("mode ", mode, " (", modeName(mode),
                                 ") is not supported: only triangles, strips and fans")};
@@ -338,6 +521,16 @@ private:
         const auto base = static_cast<uint32_t>(mesh.positions.size());
         for (const Vec3d& p : *positions)
             mesh.positions.push_back(transformPoint(world, p));
+        for (int set = 0; set < 2; ++set) {
+            auto appended = appendAttribute<2>(primitive, concat("TEXCOORD_", set), base,
+                                               vertexCount, scene_.texCoords[set], {0, 0});
+            if (!appended) return appended;
+        }
+        if (auto appended = appendAttribute<3>(primitive, "COLOR_0", base, vertexCount,
+                                               scene_.vertexColors, {1, 1, 1});
+            !appended) {
+            return appended;
+        }
         // A mirroring transform turns counter-clockwise corners clockwise; swapping two corners
         // keeps the geometric normal on the side the file intends (glTF 2.0 section 3.7.4).
         const bool mirrored = determinant3(world) < 0;
@@ -363,6 +556,10 @@ private:
                                              source.type,
                                              "; only perspective cameras are "
                                              "supported, so it is skipped"));
+            scene_.skippedCameras.emplace_back(
+                node.camera,
+                concat(cameraWhere, source.name.empty() ? "" : " '" + source.name + "'", " (",
+                       source.type, ")"));
             return {};
         }
         const tinygltf::PerspectiveCamera& lens = source.perspective;
@@ -393,6 +590,7 @@ private:
         camera.aspectRatio = lens.aspectRatio;
         if (lens.znear > 0) camera.zNear = lens.znear;
         camera.zFar = lens.zfar;
+        camera.fileIndex = node.camera;
         scene_.cameras.push_back(std::move(camera));
         return {};
     }
@@ -402,14 +600,12 @@ private:
     const std::string& path_;
     Scene& scene_;
     LoadBudget& budget_;
+    GltfTextures textures_{model_, path_, scene_, budget_};
     uint32_t defaultMaterial_ = 0;
     bool usesDefault_ = false;
+    std::set<int> warnedMeshes_;
+    std::vector<PunctualLight> lights_;  // the file's light list (KHR_lights_punctual)
 };
-
-bool ignoreImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-                 const unsigned char*, int, void*) {
-    return true;
-}
 
 std::string trimNewlines(std::string text) {
     while (!text.empty() && (text.back() == '\n' || text.back() == '\r'))
@@ -437,7 +633,7 @@ Expected<ParsedFile> parseFile(const std::string& path, LoadBudget& budget,
     std::string bytes(fileBytes, '\0');
     file.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     if (static_cast<uint64_t>(file.gcount()) != fileBytes) return Error{"cannot read the file"};
-    const bool binary = (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) ||
+    bool binary = (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) ||
         toLower(std::filesystem::path(path).extension().string()) == ".glb";
 
     std::string_view jsonText = bytes;
@@ -454,12 +650,23 @@ Expected<ParsedFile> parseFile(const std::string& path, LoadBudget& budget,
     parsed.root = std::move(*root);
     if (auto ok = checkGltfAsset(parsed.root); !ok) return ok.error();
     const std::string folder = std::filesystem::path(path).parent_path().string();
+    if (usesMeshoptCompression(parsed.root)) {
+        // Decoded into plain glTF (a .gltf with data: buffers) before anything else reads it.
+        if (auto ok = decodeMeshoptViews(parsed.root, folder, chunks.bin, budget); !ok) {
+            return ok.error();
+        }
+        bytes = parsed.root.dump();
+        binary = false;
+        chunks = GlbChunks{};
+    }
+    if (auto ok = checkRequiredGltfExtensions(parsed.root); !ok) return ok.error();
+    warnDroppedGltfFeatures(parsed.root, path, warnings);
     if (auto ok = checkGltfResources(parsed.root, folder, chunks.bin.size(), binary, budget); !ok) {
         return ok.error();
     }
 
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(&ignoreImage, nullptr);
+    loader.SetImageLoader(&keepEncodedGltfImage, nullptr);
     std::string error, warning;
     const std::string baseDir = folder.empty() ? "." : folder;
     const bool ok = binary
@@ -469,12 +676,24 @@ Expected<ParsedFile> parseFile(const std::string& path, LoadBudget& budget,
         : loader.LoadASCIIFromString(&parsed.model, &error, &warning, bytes.data(),
                                      static_cast<unsigned int>(bytes.size()), baseDir);
     error = trimNewlines(error);
+    std::replace(error.begin(), error.end(), '\n', ';');
     warning = trimNewlines(warning);
     if (!ok || !error.empty()) {
         if (error.empty()) error = "tinygltf failed without a message";
         return Error{warning.empty() ? error : error + "; " + warning};
     }
-    if (!warning.empty()) warnings.push_back(path + ": " + warning);
+    // tinygltf's warnings come as lines; each becomes one warning line.
+    for (std::size_t start = 0; start < warning.size();) {
+        std::size_t end = warning.find('\n', start);
+        if (end == std::string::npos) end = warning.size();
+        const std::string line = trimNewlines(warning.substr(start, end - start));
+        // Unreadable images are reported once each, by name, where a material uses them
+        // (gltf_textures.h).
+        const bool aboutImage = line.find("for image[") != std::string::npos ||
+            line.rfind("File not found", 0) == 0 || line.find("image[") != std::string::npos;
+        if (!line.empty() && !aboutImage) warnings.push_back(path + ": " + line);
+        start = end + 1;
+    }
     return parsed;
 }
 

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "scene/texture.h"
 #include "spectral/spectrum_spec.h"
 
 namespace daisy {
@@ -22,8 +23,16 @@ struct Material {
     std::string name;
     std::string origin;  // "scene.gltf: materials[2]", for messages
     std::array<double, 3> baseColor{0.8, 0.8, 0.8};  // linear sRGB reflectance, each in [0, 1]
-    std::array<double, 3> emissiveRgb{0, 0, 0};  // linear sRGB emission x strength, >= 0
+    // Linear sRGB emission as exitance, >= 0: glTF pi x emissiveFactor x emissiveStrength
+    // (emissive is radiance), MTL Ke.
+    std::array<double, 3> emissiveRgb{0, 0, 0};
     MaterialExtension spectral;
+    // glTF textures (scene/texture.h), multiplying baseColor and emissiveRgb; the solve takes
+    // each patch's mean, the image the texel (scene/surface_appearance.h).
+    std::optional<TextureRef> baseColorTexture;
+    std::optional<TextureRef> emissiveTexture;
+    // glTF doubleSided: the back face is a surface too (a back patch per front patch).
+    bool doubleSided = false;
 
     bool isEmissive() const;  // a non-zero emission spectrum or RGB emission
     bool isFluorescent() const;  // has a fluorescence description

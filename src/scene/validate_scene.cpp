@@ -26,7 +26,7 @@ Expected<void> checkMaterial(const Material& material) {
         if (emission > kMaxEmissiveRgb) {
             return Error{concat(material.origin, ": emission component ", k, " is ",
                                 formatNumber(emission),
-                                " (emissiveFactor x emissiveStrength), over ",
+                                " (pi x emissiveFactor x emissiveStrength for glTF), over ",
                                 formatNumber(kMaxEmissiveRgb), "; the solve would overflow")};
         }
     }
@@ -122,7 +122,7 @@ Expected<void> checkRayTracingRange(const Scene& scene) {
 }
 
 std::string noEmitterWarning(const Scene& scene) {
-    if (hasEmitter(scene)) return {};
+    if (hasEmitter(scene) || !scene.lights.empty()) return {};
     return concat(scene.path,
                   ": no surface emits light (no emissiveFactor, KHR_materials_emissive_strength "
                   "or DAISY_materials_spectral emission on any material in use): radiosity will "

@@ -29,7 +29,11 @@ TEST(Cli, InfoDescribesTheCornellBox) {
     const RunResult run = runDaisy("info " + cornellBox());
     ASSERT_EQ(run.status, 0) << run.output;
     EXPECT_NE(run.output.find("triangles      38"), std::string::npos) << run.output;
-    EXPECT_NE(run.output.find("patches        38 (no subdivision)"), std::string::npos);
+    // info shows the patches render solves: the automatic size (issue 19).
+    EXPECT_NE(run.output.find(", the automatic size; bound"), std::string::npos) << run.output;
+    const RunResult unsubdivided = runDaisy("info " + cornellBox() + " --subdivide 0");
+    EXPECT_NE(unsubdivided.output.find("patches        38 (no subdivision)"), std::string::npos)
+        << unsubdivided.output;
     EXPECT_NE(run.output.find("emitter (emissive)"), std::string::npos);
     EXPECT_NE(run.output.find("cameras        1: measured"), std::string::npos);
     EXPECT_NE(run.output.find("as CSR"), std::string::npos);

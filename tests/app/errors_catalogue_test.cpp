@@ -183,6 +183,21 @@ const std::map<std::string, Case>& cases() {
              room["materials"][1].erase("extensions");
              return info(saveGltf(dir, "dark.gltf", room));
          }},
+        {"gltf-draco-required",
+         [](const auto& dir) {
+             json room = lampRoom();
+             room["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+             room["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+             return info(saveGltf(dir, "draco.gltf", room));
+         }},
+        {"gltf-missing-texture",
+         [](const auto& dir) {
+             json room = lampRoom();
+             room["images"] = {{{"uri", "missing.png"}}};
+             room["textures"] = {{{"source", 0}}};
+             room["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+             return info(saveGltf(dir, "texture.gltf", room));
+         }},
         {"gltf-scale-1e12",
          [](const auto& dir) {
              return info(writeFile(dir, "huge.gltf", wrapScale(lampRoom(), 1e12)));

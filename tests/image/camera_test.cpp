@@ -129,5 +129,37 @@ TEST(ImageCamera, FramesAnOpenSceneFromOutside) {
     EXPECT_GT(frameScene(object, 1.0).position.z, 1);
 }
 
+TEST(ImageCamera, NumbersAreTheFilesCameraIndices) {
+    // glTF cameras[] order, not the order the node tree reaches them (issue 19); a skipped
+    // orthographic camera's number says why it is missing.
+    Scene scene;
+    scene.path = "cams.gltf";
+    scene.mesh = verify::closedRoom({0, 0, 0}, {1, 1, 1});
+    Camera a = testCamera(), b = testCamera();
+    a.name = "reached first";
+    a.fileIndex = 1;
+    b.name = "reached second";
+    b.fileIndex = 0;
+    scene.cameras = {a, b};
+    scene.skippedCameras = {{2, "cameras[2] 'top' (orthographic)"}};
+    EXPECT_EQ(chooseCamera(scene, "0")->name, "reached second");
+    EXPECT_EQ(chooseCamera(scene, "1")->name, "reached first");
+    EXPECT_EQ(chooseCamera(scene, "")->name, "reached first");  // the first in scene order
+    const auto skipped = chooseCamera(scene, "2");
+    ASSERT_FALSE(skipped.ok());
+    EXPECT_EQ(skipped.error().message,
+              "cams.gltf: camera 2 is cameras[2] 'top' (orthographic), which daisy skips (the "
+              "scene's cameras are 1 \"reached first\", 0 \"reached second\")");
+}
+
+TEST(ImageCamera, FramesAnOpenModelFromTheFrontEvenWhenItIsDeep) {
+    // glTF models face +z: a model deeper (z) than wide (x) is still seen from +z, not its side.
+    Scene scene;
+    verify::addSolidBox(scene.mesh, {-0.5, 0, -2}, {1, 1, 4});
+    const Camera camera = frameScene(scene, 4.0 / 3);
+    EXPECT_EQ(camera.forward, Vec3d(0, 0, -1));
+    EXPECT_GT(camera.position.z, 2);
+}
+
 }  // namespace
 }  // namespace daisy

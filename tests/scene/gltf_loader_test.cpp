@@ -9,10 +9,12 @@
 #include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <string>
 #include <variant>
 #include <vector>
 
+#include "scene/gltf_builder.h"
 #include "scene/material_extension.h"
 #include "test_util.h"
 
@@ -20,122 +22,13 @@ namespace daisy {
 namespace {
 
 using nlohmann::json;
-using Float3 = std::array<float, 3>;
+using test::Float3;
+using test::GltfBuilder;
 
 constexpr double kTolerance = 1e-12;
 
 const std::vector<Float3> kUnitTriangle = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
 const std::vector<Float3> kUnitSquare = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
-
-std::string base64(const std::string& bytes) {
-    static constexpr char kAlphabet[] =
-        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string text;
-    for (std::size_t i = 0; i < bytes.size(); i += 3) {
-        uint32_t group = static_cast<uint32_t>(static_cast<unsigned char>(bytes[i])) << 16;
-        if (i + 1 < bytes.size()) group |= static_cast<unsigned char>(bytes[i + 1]) << 8;
-        if (i + 2 < bytes.size()) group |= static_cast<unsigned char>(bytes[i + 2]);
-        text += kAlphabet[(group >> 18) & 63];
-        text += kAlphabet[(group >> 12) & 63];
-        text += i + 1 < bytes.size() ? kAlphabet[(group >> 6) & 63] : '=';
-        text += i + 2 < bytes.size() ? kAlphabet[group & 63] : '=';
-    }
-    return text;
-}
-
-void appendUint32(std::string& out, uint32_t value) {
-    out.append(reinterpret_cast<const char*>(&value), 4);  // little-endian host
-}
-
-// Builds a glTF document with one binary buffer; views are tightly packed, 4-byte aligned.
-class GltfBuilder {
-public:
-    json doc = {{"asset", {{"version", "2.0"}}},
-                {"bufferViews", json::array()},
-                {"accessors", json::array()},
-                {"meshes", json::array()},
-                {"nodes", json::array()}};
-    std::string bin;
-
-    int addView(const void* data, std::size_t size) {
-        bin.resize((bin.size() + 3) / 4 * 4, '\0');
-        doc["bufferViews"].push_back(
-            {{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", size}});
-        bin.append(static_cast<const char*>(data), size);
-        return static_cast<int>(doc["bufferViews"].size()) - 1;
-    }
-    int addAccessor(int view, int componentType, std::size_t count, const char* type) {
-        doc["accessors"].push_back({{"bufferView", view},
-                                    {"componentType", componentType},
-                                    {"count", count},
-                                    {"type", type}});
-        return static_cast<int>(doc["accessors"].size()) - 1;
-    }
-    int addPositions(const std::vector<Float3>& positions) {
-        const int view = addView(positions.data(), positions.size() * sizeof(Float3));
-        return addAccessor(view, 5126, positions.size(), "VEC3");
-    }
-    template <typename T>
-    int addIndices(const std::vector<T>& indices) {
-        const int view = addView(indices.data(), indices.size() * sizeof(T));
-        const int componentType = sizeof(T) == 1 ? 5121 : sizeof(T) == 2 ? 5123 : 5125;
-        return addAccessor(view, componentType, indices.size(), "SCALAR");
-    }
-    int addMesh(json primitives) {
-        doc["meshes"].push_back({{"primitives", std::move(primitives)}});
-        return static_cast<int>(doc["meshes"].size()) - 1;
-    }
-    int addNode(json node) {
-        doc["nodes"].push_back(std::move(node));
-        return static_cast<int>(doc["nodes"].size()) - 1;
-    }
-    void setScene(const std::vector<int>& roots) {
-        doc["scenes"] = json::array({{{"nodes", roots}}});
-        doc["scene"] = 0;
-    }
-    // One mesh with one primitive over `positions`, on one root node with `node`'s members.
-    void addSingleTriangleScene(const std::vector<Float3>& positions, json node = json::object()) {
-        const int accessor = addPositions(positions);
-        node["mesh"] = addMesh({{{"attributes", {{"POSITION", accessor}}}}});
-        setScene({addNode(node)});
-    }
-
-    // The buffer embedded as a base64 data URI.
-    std::string writeGltf(const std::filesystem::path& dir, const std::string& name) const {
-        json file = doc;
-        if (!bin.empty()) {
-            file["buffers"] = {{{"byteLength", bin.size()},
-                                {"uri", "data:application/octet-stream;base64," + base64(bin)}}};
-        }
-        return test::writeFile(dir, name, file.dump());
-    }
-    // The buffer in a side file `binName` next to the .gltf.
-    std::string writeGltfWithBin(const std::filesystem::path& dir, const std::string& name,
-                                 const std::string& binName) const {
-        json file = doc;
-        file["buffers"] = {{{"byteLength", bin.size()}, {"uri", binName}}};
-        test::writeFile(dir, binName, bin);
-        return test::writeFile(dir, name, file.dump());
-    }
-    // The binary container of glTF 2.0 section 4.4: header, JSON chunk, BIN chunk.
-    std::string glbBytes() const {
-        json file = doc;
-        file["buffers"] = {{{"byteLength", bin.size()}}};
-        std::string text = file.dump();
-        text.resize((text.size() + 3) / 4 * 4, ' ');
-        std::string data = bin;
-        data.resize((data.size() + 3) / 4 * 4, '\0');
-        std::string out = "glTF";
-        appendUint32(out, 2);
-        appendUint32(out, static_cast<uint32_t>(12 + 8 + text.size() + 8 + data.size()));
-        appendUint32(out, static_cast<uint32_t>(text.size()));
-        appendUint32(out, 0x4E4F534A);  // "JSON"
-        out += text;
-        appendUint32(out, static_cast<uint32_t>(data.size()));
-        appendUint32(out, 0x004E4942);  // "BIN\0"
-        return out + data;
-    }
-};
 
 Scene mustLoad(const std::string& path) {
     auto scene = loadGltf(path);
@@ -365,9 +258,12 @@ TEST(GltfLoader, MaterialsFromBaseColorEmissiveAndStrength) {
     EXPECT_EQ(scene.materials[1].name, "material1");
     EXPECT_EQ(scene.materials[1].origin, path + ": materials[1]");
     EXPECT_EQ(scene.materials[1].baseColor, (std::array<double, 3>{1, 1, 1}));  // glTF default
-    EXPECT_EQ(scene.materials[1].emissiveRgb, (std::array<double, 3>{4, 2, 1}));
+    // glTF's emissive is radiance: exitance = pi x factor x strength (issue 19).
+    constexpr double kPi = std::numbers::pi;
+    EXPECT_EQ(scene.materials[1].emissiveRgb,
+              (std::array<double, 3>{kPi * 1 * 4, kPi * 0.5 * 4, kPi * 0.25 * 4}));
     EXPECT_EQ(scene.materials[2].emissiveRgb,
-              (std::array<double, 3>{0.1, 0.2, 0.3}));  // strength 1
+              (std::array<double, 3>{kPi * 0.1, kPi * 0.2, kPi * 0.3}));  // strength 1
     EXPECT_EQ(scene.materials[3].name, "default");
     EXPECT_EQ(scene.materials[3].baseColor, (std::array<double, 3>{0.8, 0.8, 0.8}));
     EXPECT_FALSE(scene.materials[3].isEmissive());
@@ -445,7 +341,8 @@ TEST(GltfLoader, CommittedLampRoomFixture) {
     EXPECT_EQ(scene.materials[0].baseColor, (std::array<double, 3>{0.5, 0.5, 0.5}));
     EXPECT_TRUE(scene.materials[0].spectral.reflectance.has_value());
     EXPECT_EQ(scene.materials[1].name, "uv_lamp");
-    EXPECT_EQ(scene.materials[1].emissiveRgb, (std::array<double, 3>{5, 2.5, 5}));
+    constexpr double kPi = std::numbers::pi;  // exitance = pi x radiance
+    EXPECT_EQ(scene.materials[1].emissiveRgb, (std::array<double, 3>{kPi * 5, kPi * 2.5, kPi * 5}));
     ASSERT_TRUE(scene.materials[1].spectral.emission.has_value());
     EXPECT_EQ(scene.materials[1].spectral.emission->scale, 20);
     ASSERT_EQ(scene.cameras.size(), 1u);
@@ -497,22 +394,22 @@ TEST(GltfLoader, PerspectiveCamerasInWorldSpace) {
     EXPECT_TRUE(scene.mesh.triangles.empty());
 }
 
-TEST(GltfLoaderErrors, PointsAndLinesAreRefused) {
+TEST(GltfLoader, PointsAndLinesAreSkippedWithAWarningNamingTheMesh) {
     GltfBuilder gltf;
     gltf.addSingleTriangleScene(kUnitTriangle);
     const auto dir = test::testTempDir();
-    gltf.doc["meshes"][0]["primitives"][0]["mode"] = 0;
-    EXPECT_NE(loadError(gltf.writeGltf(dir, "points.gltf"))
-                  .find("meshes[0].primitives[0]: mode 0 (POINTS) is not supported"),
-              std::string::npos);
-
-    gltf.doc["meshes"][0]["primitives"][0]["mode"] = 4;
+    gltf.doc["meshes"][0]["name"] = "wire";
     gltf.doc["meshes"][0]["primitives"][1] = {{"attributes", {{"POSITION", 0}}}, {"mode", 1}};
-    const auto path = gltf.writeGltf(dir, "scene.gltf");
-    EXPECT_EQ(loadError(path),
+    gltf.doc["meshes"][0]["primitives"][2] = {{"attributes", {{"POSITION", 0}}}, {"mode", 0}};
+    const std::string path = gltf.writeGltf(dir, "scene.gltf");
+    auto scene = loadGltf(path);
+    ASSERT_TRUE(scene) << scene.error().message;
+    EXPECT_EQ(scene->mesh.triangleCount(), 1u);  // the TRIANGLES primitive only
+    ASSERT_EQ(scene->warnings.size(), 1u);
+    EXPECT_EQ(scene->warnings[0],
               path +
-                  ": meshes[0].primitives[1]: mode 1 (LINES) is not "
-                  "supported: only triangles, strips and fans");
+                  ": meshes[0] 'wire': LINES, POINTS primitives skipped (only "
+                  "triangles become patches)");
 }
 
 // One malformed variant of a valid one-triangle scene per case, and the place it must name.
@@ -606,7 +503,9 @@ INSTANTIATE_TEST_SUITE_P(
                    "finite"},
         BrokenCase{"PositionNotVec3",
                    [](GltfBuilder& g) { g.doc["accessors"][0]["type"] = "VEC2"; },
-                   "accessors[0]: VEC2 FLOAT where VEC3 FLOAT is required"},
+                   "accessors[0]: VEC2 FLOAT where VEC3 FLOAT (or KHR_mesh_quantization's BYTE or "
+                   "SHORT) is "
+                   "required"},
         BrokenCase{"IndicesNotUnsigned",
                    [](GltfBuilder& g) {
                        useIndices(g, {0, 1, 2});

@@ -1,0 +1,28 @@
+#pragma once
+// EXT_meshopt_compression (and its KHR_ successor's identical layout) through
+// libmeshoptimizer (issue 19): every compressed bufferView is decoded (vertex or index codec,
+// then the octahedral, quaternion or exponential filter) into one new buffer, the views are
+// pointed at it and the extension removed, so tinygltf and the accessor readers see plain glTF.
+// Internal to scene/ (gltf_loader.cpp). Messages name the bufferView without the file.
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "core/expected.h"
+#include "scene/load_budget.h"
+
+namespace daisy {
+
+// True when some bufferView of `root` carries the compression extension.
+bool usesMeshoptCompression(const nlohmann::json& root);
+
+// Decodes in place: `root` gains a buffer with a data: uri holding the decoded views, and loses
+// the extension from extensionsUsed and extensionsRequired. Fallback buffers (no uri) become
+// 4-byte data: buffers no view reads. `folder` is the scene's folder (for buffers in files), `glbBin` the GLB
+// BIN chunk (buffer 0 without a uri), which becomes a data: uri too, so the result is parsed as
+// a .gltf.
+Expected<void> decodeMeshoptViews(nlohmann::json& root, const std::string& folder,
+                                  std::string_view glbBin, LoadBudget& budget);
+
+}  // namespace daisy
