@@ -2,6 +2,7 @@
 // the cpu backend without exporting it, and prints the stage times and counts as one CSV row.
 // Usage: bench_formfactors SCENE [--method M] [--quadrature L] [--rays K] [--stochastic-rays N]
 //        [--threads T] [--packet single|packet4|packet8|packet16|stream] [--no-culling]
+//        [--no-cost-model]
 //        [--repeat R] [--header]
 // Prints the best (shortest) of R runs. Exit status 2 on bad arguments or input.
 #include <cstdio>
@@ -44,6 +45,8 @@ int main(int argc, char** argv) {
             repeat = std::max(1, std::atoi(argv[++a]));
         } else if (arg == "--no-culling") {
             settings.shaftCulling = false;
+        } else if (arg == "--no-cost-model") {
+            settings.costModel = false;
         } else if (arg == "--header") {
             header = true;
         } else if (arg == "--packet") {
@@ -92,12 +95,12 @@ int main(int argc, char** argv) {
     if (header) {
         std::printf(
             "method,L,K,threads,packet,culling,patches,pairs,facing_away,clear_cluster,"
-            "clear_pair,covered,traced_pairs,hidden,open,shafts,rays,nonzeros,count_s,pair_s,"
+            "clear_pair,covered,traced_pairs,hidden,shafts,rays,nonzeros,count_s,pair_s,"
             "compact_s,total_s,rays_per_s,"
             "work_mib\n");
     }
     std::printf(
-        "%s,%d,%d,%d,%s,%d,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%.3f,%.3f,%."
+        "%s,%d,%d,%d,%s,%d,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%.3f,%.3f,%."
         "3f,%.3f,"
         "%.4g,%.1f\n",
         formFactorMethodName(settings.method), settings.quadratureLevel, settings.raysPerPair,
@@ -106,10 +109,9 @@ int main(int argc, char** argv) {
         (unsigned long long)best.facingAway, (unsigned long long)best.clearClusterShafts,
         (unsigned long long)best.clearPairShafts, (unsigned long long)best.coveredPairs,
         (unsigned long long)best.tracedPairs, (unsigned long long)best.hiddenPairs,
-        (unsigned long long)best.openPairs, (unsigned long long)best.shaftsBuilt,
-        (unsigned long long)best.raysCast, (unsigned long long)best.nonzeros, best.countSeconds,
-        best.pairSeconds, best.compactSeconds, best.totalSeconds,
-        best.pairSeconds > 0 ? double(best.raysCast) / best.pairSeconds : 0.0,
+        (unsigned long long)best.shaftsBuilt, (unsigned long long)best.raysCast,
+        (unsigned long long)best.nonzeros, best.countSeconds, best.pairSeconds, best.compactSeconds,
+        best.totalSeconds, best.pairSeconds > 0 ? double(best.raysCast) / best.pairSeconds : 0.0,
         double(best.workBytes) / (1 << 20));
     return 0;
 }
