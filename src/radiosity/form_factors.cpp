@@ -339,14 +339,16 @@ void PairLoop::countCandidates() {
 // The cost model's constants, measured on this scene and backend (issue 18): the seconds of
 // one ray (the backend's wall time per segment of a batch times the worker count, i.e. per
 // thread, as culling runs on every worker), of one shaft with its blocker query, of one shaft
-// build and of one shaft-polygon test. Samples: up to 64 cluster pairs spread over the matrix
-// that face each other, and up to 4096 of their candidate pairs for the rays.
+// build and of one shaft-polygon test. Samples: up to 64 distinct cluster pairs spread over the
+// matrix that face each other, and up to 256 of their candidate pairs for the rays, evaluated
+// with 5K and with K rays: the difference is 4K rays a pair, the kernel cancels.
 void PairLoop::calibrate() {
     const std::size_t clusterCount = clusters_.clusterCount();
     if (!culling() || !settings_.costModel || clusterCount < 2) return;
     struct Sample {
         std::size_t a, b;
     };
+    constexpr std::size_t kPairs = 256;
     std::vector<Sample> samples;
     std::vector<PairIndex> pairs;
     for (uint32_t s = 0; s < 4096 && samples.size() < 64; ++s) {
@@ -354,20 +356,28 @@ void PairLoop::calibrate() {
         const std::size_t b = shared::pcgHash(2 * s + 2) % clusterCount;
         if (a == b) continue;
         const std::size_t lo = std::min(a, b), hi = std::max(a, b);
-        if (clusterFacesAway(clusters_.cluster(lo), clusters_.cluster(hi))) continue;
+        if (std::any_of(samples.begin(), samples.end(),
+                        [&](const Sample& x) { return x.a == lo && x.b == hi; }) ||
+            clusterFacesAway(clusters_.cluster(lo), clusters_.cluster(hi))) {
+            continue;
+        }
         samples.push_back({lo, hi});
         const ClusterNode& rows = clusters_.cluster(lo);
         const ClusterNode& cols = clusters_.cluster(hi);
-        for (uint32_t i = rows.begin; i < rows.end && pairs.size() < 4096; ++i) {
-            for (uint32_t j = cols.begin; j < cols.end && pairs.size() < 4096; ++j) {
-                if (candidates_.test(i, j)) pairs.push_back({i, j});
+        // A few pairs of each sample, so that the rays see the whole scene.
+        std::size_t taken = 0;
+        for (uint32_t i = rows.begin; i < rows.end && taken < kPairs / 32; ++i) {
+            for (uint32_t j = cols.begin; j < cols.end && taken < kPairs / 32; j += 3) {
+                if (candidates_.test(i, j) && pairs.size() < kPairs) {
+                    pairs.push_back({i, j});
+                    ++taken;
+                }
             }
         }
     }
     if (samples.empty() || pairs.empty()) return;
     const double threads = std::max(1, tbb::this_task_arena::max_concurrency());
     std::vector<float> out(pairs.size());
-    // In the backend's batch size (a device's buffers hold no more).
     const auto timed = [&](int rays) {
         const auto t0 = Clock::now();
         for (std::size_t first = 0; first < pairs.size(); first += batchPairs_) {
@@ -379,15 +389,15 @@ void PairLoop::calibrate() {
         }
         return secondsSince(t0);
     };
-    // Rays: the batch with K rays less the batch without (its kernel), best of two.
+    const int perPair = settings_.raysPerPair;
     double rays = 1e300;
     for (int repeat = 0; repeat < 2; ++repeat) {
-        const double kernel = timed(0);
-        const double traced = timed(settings_.raysPerPair);
-        if (kernel < 0 || traced < 0) return;  // the build reports the error itself
-        rays = std::min(rays, std::max(0.0, traced - kernel));
+        const double few = timed(perPair);
+        const double many = timed(5 * perPair);
+        if (few < 0 || many < 0) return;  // the build reports the error itself
+        rays = std::min(rays, std::max(0.0, many - few));
     }
-    stats_.costRaySeconds = rays * threads / (double(pairs.size()) * settings_.raysPerPair);
+    stats_.costRaySeconds = rays * threads / (double(pairs.size()) * 4 * perPair);
     // Culling: shafts with their queries, then shaft builds and polygon tests alone.
     Shaft shaft;
     std::vector<uint32_t> found;
@@ -680,7 +690,9 @@ Expected<FormFactorResult> PairLoop::run() {
     matrix_.values.resize(stats_.slots);
 
     const auto pairStart = Clock::now();
+    const auto calibrateStart = Clock::now();
     calibrate();
+    stats_.costCalibrationSeconds = stats_.costRaySeconds > 0 ? secondsSince(calibrateStart) : 0;
     {
         Progress progress("view factors", stats_.pairs, "pairs",
                           settings_.progress && progressEnabledByDefault(), settings_.onProgress);

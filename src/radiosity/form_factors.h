@@ -88,6 +88,7 @@ struct FormFactorStats {
     double costQuerySeconds = 0;  // one cluster-pair shaft with its blocker query
     double costShaftSeconds = 0;  // one shaft build
     double costTestSeconds = 0;  // one shaft-polygon test
+    double costCalibrationSeconds = 0;  // measuring them (part of pairSeconds)
     uint64_t slots = 0;  // CSR entries allocated before zeros were dropped
     uint64_t nonzeros = 0;
     uint64_t workBytes = 0;  // peak bytes of the build: CSR slots + bitmap + scratch
