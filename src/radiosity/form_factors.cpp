@@ -341,7 +341,8 @@ void PairLoop::countCandidates() {
 // thread, as culling runs on every worker), of one shaft with its blocker query, of one shaft
 // build and of one shaft-polygon test. Samples: up to 64 distinct cluster pairs spread over the
 // matrix that face each other, and up to 256 of their candidate pairs for the rays, evaluated
-// with 5K and with K rays: the difference is 4K rays a pair, the kernel cancels.
+// with 17K and with K rays (best of 3): the difference is 16K rays a pair, the kernel cancels.
+// When the rays cannot be told from noise (0), the model stays off: every cluster pair is culled.
 void PairLoop::calibrate() {
     const std::size_t clusterCount = clusters_.clusterCount();
     if (!culling() || !settings_.costModel || clusterCount < 2) return;
@@ -391,13 +392,13 @@ void PairLoop::calibrate() {
     };
     const int perPair = settings_.raysPerPair;
     double rays = 1e300;
-    for (int repeat = 0; repeat < 2; ++repeat) {
+    for (int repeat = 0; repeat < 3; ++repeat) {
         const double few = timed(perPair);
-        const double many = timed(5 * perPair);
+        const double many = timed(17 * perPair);
         if (few < 0 || many < 0) return;  // the build reports the error itself
         rays = std::min(rays, std::max(0.0, many - few));
     }
-    stats_.costRaySeconds = rays * threads / (double(pairs.size()) * 4 * perPair);
+    stats_.costRaySeconds = rays * threads / (double(pairs.size()) * 16 * perPair);
     // Culling: shafts with their queries, then shaft builds and polygon tests alone.
     Shaft shaft;
     std::vector<uint32_t> found;
