@@ -12,7 +12,9 @@ hundred triangles) for the cross-backend tests (tests/backend/formfactor_family_
   interior vertex ~1e-6 m off its face's plane (float rounding of rotated geometry), so the
   coplanar runs are short: thousands of coplanar clusters of a few triangles.
   blender_shell_small.gltf: that room alone (a closed convex enclosure, ceiling lit), for the
-  summation rule: every row of F sums to 1.
+  summation rule: every row of F sums to 1. blender_cornell.gltf (full only): a Blender-style
+  Cornell box of 13,184 triangles (the room tessellated so, two blocks), the issue's second
+  user scene, for the "at most 3x the black-light box" benchmark.
 - (c) open.gltf: no enclosure: a floor and a ring of standing panels facing its centre, one
   panel lit; nearly every shaft is clear.
 - (d) cluttered.gltf: the room on plain grids around many small boxes (floating and standing)
@@ -149,12 +151,12 @@ def small_box(rng, k):
 
 def scene(kind, small):
     rng = Lcg({"blacklight": 1, "blender_room": 2, "open": 3, "cluttered": 4,
-               "far_triangle": 5, "blender_shell": 6}[kind])
+               "far_triangle": 5, "blender_shell": 6, "blender_cornell": 7}[kind])
     objects = []
     if kind == "blacklight":
         objects += room_faces((6, 3, 6)) + occluders(True)
-    elif kind in ("blender_room", "blender_shell"):
-        n = (6, 3, 6) if small else (26, 15, 26)
+    elif kind in ("blender_room", "blender_shell", "blender_cornell"):
+        n = (6, 3, 6) if small else (36, 22, 36) if kind == "blender_cornell" else (26, 15, 26)
         # The same tilt between neighbours (~5e-6 rad) at either size.
         off_plane = 4e-6 if small else 1e-6
         for name, face in [("floor", "-y"), ("ceiling", "+y"), ("back", "-z"), ("front", "+z"),
@@ -166,6 +168,12 @@ def scene(kind, small):
                                          jitter_off_plane=off_plane)))
         if kind == "blender_room":
             objects += occluders(small)
+        elif kind == "blender_cornell":
+            up = ["-x", "+x", "+y", "-z", "+z"]
+            objects.append(bb.box("tall_block", (1.45, 1.0, 1.7), (1.0, 2.0, 1.0), (8, 16, 8),
+                                  "white", faces=up, yaw_deg=20.0))
+            objects.append(bb.box("short_block", (3.5, 0.5, 2.0), (1.2, 1.0, 1.2), (8, 6, 8),
+                                  "white", faces=up, yaw_deg=-18.0))
     elif kind == "open":
         n = 6 if small else 40
         objects.append(bb.box("floor", (0.0, -0.5, 0.0), (20.0, 1.0, 20.0), (n, 1, n), "white",
@@ -225,10 +233,12 @@ def build(kind, small):
 def main():
     status = 0
     for kind in ["blacklight", "blender_room", "open", "cluttered", "far_triangle",
-                 "blender_shell"]:
+                 "blender_shell", "blender_cornell"]:
         for small in [True, False]:
             if (kind == "blacklight" or kind == "blender_shell") and not small:
-                continue  # assets/scenes/blacklight_box.gltf (tools/make_benchmark_box.py)
+                continue
+            if kind == "blender_cornell" and small:
+                continue  # a benchmark only (docs/performance.md)  # assets/scenes/blacklight_box.gltf (tools/make_benchmark_box.py)
             name = f"{kind}{'_small' if small else ''}.gltf"
             status |= write_or_check(FOLDER / name, build(kind, small),
                                      "tools/make_formfactor_family.py")

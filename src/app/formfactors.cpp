@@ -40,13 +40,15 @@ void printVerboseStats(const FormFactorStats& s) {
                       "rays/s over the pair loop"));
     if (s.costRaySeconds > 0) {
         const auto ns = [](double seconds) { return formatNumber(seconds * 1e9, 3) + " ns"; };
-        logVerbose(concat("  cost model: a ray ", ns(s.costRaySeconds), ", a shaft with its query ",
-                          ns(s.costQuerySeconds), ", a shaft ", ns(s.costShaftSeconds),
-                          ", a polygon test ", ns(s.costTestSeconds), " (one thread); culled ",
-                          formatCount(s.culledClusterPairs), " cluster pairs, traced ",
-                          formatCount(s.costTracedClusterPairs),
-                          " without culling (rays cheaper), stopped ",
-                          formatCount(s.costStoppedRefinements), " refinements"));
+        logVerbose(concat(
+            "  cost model: a ray ", ns(s.costRaySeconds), ", a shaft with its query ",
+            ns(s.costQuerySeconds), ", a shaft ", ns(s.costShaftSeconds), ", a polygon test ",
+            ns(s.costTestSeconds), " (one thread); culled ", formatCount(s.culledClusterPairs),
+            " cluster pairs, traced ", formatCount(s.costTracedClusterPairs),
+            " without culling (rays cheaper), stopped ", formatCount(s.costStoppedRefinements),
+            " refinements; culling measured over predicted ", formatNumber(s.costCullScale, 3),
+            "; culling sampled only after ", formatCount(s.costGateClosedWaves),
+            " waves where it had cost more than it saved"));
     } else if (s.culledClusterPairs > 0) {
         logVerbose(concat("  cost model off: culled all ", formatCount(s.culledClusterPairs),
                           " cluster pairs"));

@@ -100,6 +100,9 @@ constexpr uint64_t kWavePairs = uint64_t(1) << 20;
 // tracing its pairs: a split resolves only part of its pairs (most small shafts are truly
 // partly blocked), so it must be clearly cheaper to pay.
 constexpr double kRefineBenefit = 0.5;
+// With the gate closed (culling has cost more than its rays saved), one cluster pair in this
+// many is still culled, so the gate can open again where culling starts to pay.
+constexpr std::size_t kGateSample = 8;
 
 // Candidate pairs (i < j, not facing away), one bit each; every row starts on a word boundary
 // so rows can be filled in parallel.
@@ -159,6 +162,8 @@ struct BlockOutput {
     std::vector<PendingPair> trace;  // the K rays
     FormFactorStats stats;
     uint64_t pairs = 0;  // unordered pairs of the block, for progress
+    double cullSeconds = 0;  // spent culling (thread seconds)
+    double cullPredicted = 0;  // what the calibrated model predicted for that work
 };
 
 struct ThreadScratch {
@@ -223,7 +228,7 @@ private:
     void computeCluster(std::size_t block, std::size_t a, ThreadScratch& scratch, BlockOutput& out);
     void refine(uint32_t nodeA, uint32_t nodeB, std::size_t lo, std::size_t hi, int depth,
                 const ClusterNode& rowCluster, const ClusterNode& columnCluster,
-                ThreadScratch& scratch, FormFactorStats& stats) const;
+                ThreadScratch& scratch, BlockOutput& out) const;
     bool covered(const ClusterNode& a, const ClusterNode& b, const uint32_t* blockers,
                  std::size_t count) const;
     Expected<void> evaluate(const std::vector<BlockOutput>& outputs, bool traced);
@@ -238,6 +243,17 @@ private:
     double traceCost(uint64_t pairs) const {
         return double(pairs) * settings_.raysPerPair * stats_.costRaySeconds;
     }
+    // Calibrated seconds (one thread) of `children` sub-shafts filtering `blockers` blockers,
+    // each also scanned by the cover test, before the online correction.
+    double splitBase(int children, std::size_t blockers) const {
+        return double(children) *
+            (stats_.costShaftSeconds + 2.0 * double(blockers) * stats_.costTestSeconds);
+    }
+    // After each wave, the measured time of culling against what the calibrated model
+    // predicted for it (cumulative, clamped to [1/4, 16]): the model corrects its own bias (the
+    // rays are not corrected so: a traced batch's time cannot be split into rays and kernel);
+    // and the gate: culling stays on only while it has saved more ray time than it took.
+    void correctCosts(const std::vector<BlockOutput>& outputs);
 
     const PatchMesh& mesh_;
     const FormFactorSettings& settings_;
@@ -249,6 +265,11 @@ private:
     CandidateBitmap candidates_;
     std::size_t batchPairs_;
     bool costModel_ = false;  // on once calibrated
+    double cullScale_ = 1;  // measured / predicted culling time so far
+    double cullSeconds_ = 0, cullPredicted_ = 0;
+    // Open while culling has so far saved more ray time than it took; closed, only one cluster
+    // pair in kGateSample is culled (to keep measuring), the rest traced.
+    bool gateOpen_ = true;
     std::vector<uint32_t> lowerCount_;  // per row: candidates j < i
     std::vector<uint32_t> upperCount_;  // per row: candidates j > i
     // Row blocks: clusters [blockCluster_[r], blockCluster_[r + 1]). columnBase_[r * n + j]: the
@@ -391,57 +412,68 @@ void PairLoop::calibrate() {
         return secondsSince(t0);
     };
     const int perPair = settings_.raysPerPair;
-    double rays = 1e300;
+    double few = 1e300, many = 1e300;
     for (int repeat = 0; repeat < 3; ++repeat) {
-        const double few = timed(perPair);
-        const double many = timed(17 * perPair);
-        if (few < 0 || many < 0) return;  // the build reports the error itself
-        rays = std::min(rays, std::max(0.0, many - few));
+        const double a = timed(perPair);
+        const double b = timed(17 * perPair);
+        if (a < 0 || b < 0) return;  // the build reports the error itself
+        few = std::min(few, a);
+        many = std::min(many, b);
     }
-    stats_.costRaySeconds = rays * threads / (double(pairs.size()) * 16 * perPair);
-    // Culling: shafts with their queries, then shaft builds and polygon tests alone.
+    stats_.costRaySeconds =
+        std::max(0.0, many - few) * threads / (double(pairs.size()) * 16 * perPair);
+    // Culling, each best of two passes (the first warms the caches): shafts with their
+    // queries, shaft builds alone, and each sample shaft tested against the blockers its query
+    // kept (what refinement filters).
     Shaft shaft;
-    std::vector<uint32_t> found;
-    auto t0 = Clock::now();
-    uint64_t tests = 0;
-    for (const Sample& s : samples) {
-        const ClusterNode& p = clusters_.cluster(s.a);
-        const ClusterNode& q = clusters_.cluster(s.b);
-        const double tolerance = toleranceOf(boundsOf(clusters_.outline(p), clusters_.outline(q)));
-        found.clear();
-        if (shaft.build(clusters_.outline(p), clusters_.outline(q), tolerance)) {
-            bvh_.query(shaft, clusterPlane(p), clusterPlane(q), tolerance, found);
+    std::vector<std::vector<uint32_t>> found(samples.size());
+    const auto outlines = [&](const Sample& x, const auto& use) {
+        const ClusterNode& p = clusters_.cluster(x.a);
+        const ClusterNode& q = clusters_.cluster(x.b);
+        use(p, q, toleranceOf(boundsOf(clusters_.outline(p), clusters_.outline(q))));
+    };
+    double query = 1e300, build = 1e300, test = 1e300;
+    uint64_t tests = 0, excluded = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        auto t0 = Clock::now();
+        for (std::size_t k = 0; k < samples.size(); ++k) {
+            outlines(samples[k], [&](const ClusterNode& p, const ClusterNode& q, double tol) {
+                found[k].clear();
+                if (shaft.build(clusters_.outline(p), clusters_.outline(q), tol))
+                    bvh_.query(shaft, clusterPlane(p), clusterPlane(q), tol, found[k]);
+            });
         }
-        tests += found.size();
-    }
-    stats_.costQuerySeconds = secondsSince(t0) / double(samples.size());
-    t0 = Clock::now();
-    for (const Sample& s : samples) {
-        const ClusterNode& p = clusters_.cluster(s.a);
-        const ClusterNode& q = clusters_.cluster(s.b);
-        shaft.build(clusters_.outline(p), clusters_.outline(q),
-                    toleranceOf(boundsOf(clusters_.outline(p), clusters_.outline(q))));
-    }
-    stats_.costShaftSeconds = secondsSince(t0) / double(samples.size());
-    // Polygon tests: every sample shaft against a fixed run of blockers.
-    const std::size_t run = std::min<std::size_t>(clusters_.blockers.size(), 64);
-    uint64_t excluded = 0;
-    double testSeconds = 0;
-    for (const Sample& s : samples) {
-        const ClusterNode& p = clusters_.cluster(s.a);
-        const ClusterNode& q = clusters_.cluster(s.b);
-        if (!shaft.build(clusters_.outline(p), clusters_.outline(q),
-                         toleranceOf(boundsOf(clusters_.outline(p), clusters_.outline(q))))) {
-            continue;
-        }
+        query = std::min(query, secondsSince(t0) / double(samples.size()));
         t0 = Clock::now();
-        for (std::size_t k = 0; k < run; ++k)
-            excluded += shaft.excludesPolygon(clusters_.blockers[k]) ? 1 : 0;
-        testSeconds += secondsSince(t0);
-        tests += run;
+        for (const Sample& x : samples) {
+            outlines(x, [&](const ClusterNode& p, const ClusterNode& q, double tol) {
+                shaft.build(clusters_.outline(p), clusters_.outline(q), tol);
+            });
+        }
+        build = std::min(build, secondsSince(t0) / double(samples.size()));
+        double seconds = 0;
+        tests = 0;
+        for (std::size_t k = 0; k < samples.size(); ++k) {
+            outlines(samples[k], [&](const ClusterNode& p, const ClusterNode& q, double tol) {
+                if (found[k].empty() ||
+                    !shaft.build(clusters_.outline(p), clusters_.outline(q), tol)) {
+                    return;
+                }
+                const auto t1 = Clock::now();
+                for (uint32_t blocker : found[k])
+                    excluded += shaft.excludesPolygon(clusters_.blockers[blocker]) ? 1 : 0;
+                seconds += secondsSince(t1);
+                tests += found[k].size();
+            });
+        }
+        if (tests > 0) test = std::min(test, seconds / double(tests));
     }
-    stats_.costTestSeconds = run > 0 ? testSeconds / double(samples.size() * run) : 0;
-    costModel_ = stats_.costRaySeconds > 0 && excluded <= tests;  // `excluded` keeps the loop
+    stats_.costQuerySeconds = query;
+    stats_.costShaftSeconds = build;
+    // No sample shaft kept a blocker: refinement never runs, so its price does not matter.
+    stats_.costTestSeconds = tests > 0 ? test : 0;
+    [[maybe_unused]] volatile uint64_t keep = excluded;  // the timed tests are not dead code
+    costModel_ = stats_.costRaySeconds > 0;
 }
 
 bool PairLoop::covered(const ClusterNode& a, const ClusterNode& b, const uint32_t* blockers,
@@ -469,7 +501,8 @@ bool PairLoop::covered(const ClusterNode& a, const ClusterNode& b, const uint32_
 // lies inside its parent, so no blocker is missed).
 void PairLoop::refine(uint32_t nodeA, uint32_t nodeB, std::size_t lo, std::size_t hi, int depth,
                       const ClusterNode& rowCluster, const ClusterNode& columnCluster,
-                      ThreadScratch& scratch, FormFactorStats& stats) const {
+                      ThreadScratch& scratch, BlockOutput& out) const {
+    FormFactorStats& stats = out.stats;
     const ClusterNode& a = clusters_.nodes[nodeA];
     const ClusterNode& b = clusters_.nodes[nodeB];
     const auto mark = [&](Visibility v) {
@@ -495,15 +528,13 @@ void PairLoop::refine(uint32_t nodeA, uint32_t nodeB, std::size_t lo, std::size_
     }
     const int countA = a.firstChild != 0 ? 2 : 1;
     const int countB = b.firstChild != 0 ? 2 : 1;
-    if (costModel_) {
-        const double split = double(countA * countB) *
-            (stats_.costShaftSeconds + double(hi - lo) * stats_.costTestSeconds);
-        if (split > kRefineBenefit * traceCost(pairs)) {
-            ++stats.costStoppedRefinements;
-            mark(Visibility::Trace);
-            return;
-        }
+    const double split = splitBase(countA * countB, hi - lo);
+    if (costModel_ && cullScale_ * split > kRefineBenefit * traceCost(pairs)) {
+        ++stats.costStoppedRefinements;
+        mark(Visibility::Trace);
+        return;
     }
+    out.cullPredicted += split;
     // Halve both nodes (or the one that still can be): four (or two) smaller shafts.
     const uint32_t childrenA[2] = {a.firstChild != 0 ? a.firstChild : nodeA, a.firstChild + 1};
     const uint32_t childrenB[2] = {b.firstChild != 0 ? b.firstChild : nodeB, b.firstChild + 1};
@@ -524,7 +555,7 @@ void PairLoop::refine(uint32_t nodeA, uint32_t nodeB, std::size_t lo, std::size_
                 }
             }
             refine(childrenA[x], childrenB[y], childLo, scratch.blockers.size(), depth + 1,
-                   rowCluster, columnCluster, scratch, stats);
+                   rowCluster, columnCluster, scratch, out);
             scratch.blockers.resize(childLo);
         }
     }
@@ -571,10 +602,14 @@ void PairLoop::computeCluster(std::size_t block, std::size_t a, ThreadScratch& s
         scratch.visibility.assign(std::size_t(rowCluster.end - rowCluster.begin) * width,
                                   visibility ? Visibility::Trace : Visibility::ClearCluster);
         if (culling() && a != b) {
-            if (costModel_ && traceCost(blockCandidates) < stats_.costQuerySeconds) {
+            if (costModel_ &&
+                ((!gateOpen_ && (a + b) % kGateSample != 0) ||
+                 traceCost(blockCandidates) < cullScale_ * stats_.costQuerySeconds)) {
                 ++stats.costTracedClusterPairs;
             } else {
                 ++stats.culledClusterPairs;
+                const auto cullStart = Clock::now();
+                out.cullPredicted += stats_.costQuerySeconds;
                 Shaft& shaft = scratch.shaft(0);
                 ++stats.shaftsBuilt;
                 const double tolerance = toleranceOf(
@@ -585,8 +620,9 @@ void PairLoop::computeCluster(std::size_t block, std::size_t a, ThreadScratch& s
                     bvh_.query(shaft, clusterPlane(rowCluster), clusterPlane(columnCluster),
                                tolerance, scratch.blockers);
                     refine(clusters_.clusterRoot[a], clusters_.clusterRoot[b], 0,
-                           scratch.blockers.size(), 0, rowCluster, columnCluster, scratch, stats);
+                           scratch.blockers.size(), 0, rowCluster, columnCluster, scratch, out);
                 }
+                out.cullSeconds += secondsSince(cullStart);
             }
         }
         for (uint32_t i = rowCluster.begin; i < rowCluster.end; ++i) {
@@ -660,6 +696,21 @@ Expected<void> PairLoop::evaluate(const std::vector<BlockOutput>& outputs, bool 
     return flush();
 }
 
+void PairLoop::correctCosts(const std::vector<BlockOutput>& outputs) {
+    for (const BlockOutput& out : outputs) {
+        cullSeconds_ += out.cullSeconds;
+        cullPredicted_ += out.cullPredicted;
+    }
+    if (cullPredicted_ > 0) cullScale_ = std::clamp(cullSeconds_ / cullPredicted_, 0.25, 16.0);
+    stats_.costCullScale = cullScale_;
+    // What culling saved: the rays of every pair it decided (clear or covered; the stats are
+    // cumulative, this wave's already added).
+    const uint64_t resolved =
+        stats_.clearClusterShafts + stats_.clearPairShafts + stats_.coveredPairs;
+    gateOpen_ = cullSeconds_ <= double(resolved) * settings_.raysPerPair * stats_.costRaySeconds;
+    stats_.costGateClosedWaves += gateOpen_ ? 0 : 1;
+}
+
 Expected<FormFactorResult> PairLoop::run() {
     const auto start = Clock::now();
     stats_.patches = n_;
@@ -731,6 +782,7 @@ Expected<FormFactorResult> PairLoop::run() {
                 addStats(stats_, out.stats);
                 pairs += out.pairs;
             }
+            if (costModel_) correctCosts(outputs);
             progress.advance(pairs);
             first = last;
         }

@@ -89,6 +89,10 @@ struct FormFactorStats {
     double costShaftSeconds = 0;  // one shaft build
     double costTestSeconds = 0;  // one shaft-polygon test
     double costCalibrationSeconds = 0;  // measuring them (part of pairSeconds)
+    // The online correction at the end: measured culling time over the predicted; and the
+    // waves after which culling had cost more than it saved (then only sampled).
+    double costCullScale = 1;
+    uint64_t costGateClosedWaves = 0;
     uint64_t slots = 0;  // CSR entries allocated before zeros were dropped
     uint64_t nonzeros = 0;
     uint64_t workBytes = 0;  // peak bytes of the build: CSR slots + bitmap + scratch
