@@ -9,8 +9,9 @@ hundred triangles) for the cross-backend tests (tests/backend/formfactor_family_
 - (b) blender_room.gltf: the same room and occluders, but walls, floor and ceiling tessellated
   the way a Blender export is: an irregular triangulation (interior vertices moved in the
   plane, each quad split along a random diagonal), faces listed in a shuffled order, and every
-  interior vertex ~1e-6 m off its face's plane (float rounding of rotated geometry), so the
-  coplanar runs are short: thousands of coplanar clusters of a few triangles.
+  interior vertex ~1e-6 m off its face's plane (float rounding of rotated geometry). The runs
+  stay coplanar within the driver's tolerance, so they still form clusters of 32, but each
+  cluster is scattered over its whole wall: every cluster-pair shaft is as wide as the room.
   blender_shell_small.gltf: that room alone (a closed convex enclosure, ceiling lit), for the
   summation rule: every row of F sums to 1. blender_cornell.gltf (full only): a Blender-style
   Cornell box of 13,184 triangles (the room tessellated so, two blocks), the issue's second
