@@ -2,6 +2,7 @@
 // the cpu backend without exporting it, and prints the stage times and counts as one CSV row.
 // Usage: bench_formfactors SCENE [--method M] [--quadrature L] [--rays K] [--stochastic-rays N]
 //        [--threads T] [--packet single|packet4|packet8|packet16|stream] [--no-culling]
+//        [--no-cost-model]
 //        [--repeat R] [--header]
 // Prints the best (shortest) of R runs. Exit status 2 on bad arguments or input.
 #include <cstdio>
@@ -44,6 +45,8 @@ int main(int argc, char** argv) {
             repeat = std::max(1, std::atoi(argv[++a]));
         } else if (arg == "--no-culling") {
             settings.shaftCulling = false;
+        } else if (arg == "--no-cost-model") {
+            settings.costModel = false;
         } else if (arg == "--header") {
             header = true;
         } else if (arg == "--packet") {
@@ -92,24 +95,28 @@ int main(int argc, char** argv) {
     if (header) {
         std::printf(
             "method,L,K,threads,packet,culling,patches,pairs,facing_away,clear_cluster,"
-            "clear_pair,covered,traced_pairs,hidden,open,shafts,rays,nonzeros,count_s,pair_s,"
+            "clear_pair,covered,traced_pairs,hidden,shafts,rays,nonzeros,count_s,pair_s,"
             "compact_s,total_s,rays_per_s,"
-            "work_mib\n");
+            "work_mib,culled_cluster_pairs,cost_traced_cluster_pairs,cost_stopped_refinements,"
+            "ray_ns,query_ns,shaft_ns,test_ns,cull_scale,gate_closed_waves\n");
     }
     std::printf(
-        "%s,%d,%d,%d,%s,%d,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%.3f,%.3f,%."
+        "%s,%d,%d,%d,%s,%d,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%llu,%.3f,%.3f,%."
         "3f,%.3f,"
-        "%.4g,%.1f\n",
+        "%.4g,%.1f,%llu,%llu,%llu,%.4g,%.4g,%.4g,%.4g,%.3g,%llu\n",
         formFactorMethodName(settings.method), settings.quadratureLevel, settings.raysPerPair,
         settings.threads, packetModeName(mode), settings.shaftCulling ? 1 : 0,
         (unsigned long long)best.patches, (unsigned long long)best.pairs,
         (unsigned long long)best.facingAway, (unsigned long long)best.clearClusterShafts,
         (unsigned long long)best.clearPairShafts, (unsigned long long)best.coveredPairs,
         (unsigned long long)best.tracedPairs, (unsigned long long)best.hiddenPairs,
-        (unsigned long long)best.openPairs, (unsigned long long)best.shaftsBuilt,
-        (unsigned long long)best.raysCast, (unsigned long long)best.nonzeros, best.countSeconds,
-        best.pairSeconds, best.compactSeconds, best.totalSeconds,
-        best.pairSeconds > 0 ? double(best.raysCast) / best.pairSeconds : 0.0,
-        double(best.workBytes) / (1 << 20));
+        (unsigned long long)best.shaftsBuilt, (unsigned long long)best.raysCast,
+        (unsigned long long)best.nonzeros, best.countSeconds, best.pairSeconds, best.compactSeconds,
+        best.totalSeconds, best.pairSeconds > 0 ? double(best.raysCast) / best.pairSeconds : 0.0,
+        double(best.workBytes) / (1 << 20), (unsigned long long)best.culledClusterPairs,
+        (unsigned long long)best.costTracedClusterPairs,
+        (unsigned long long)best.costStoppedRefinements, best.costRaySeconds * 1e9,
+        best.costQuerySeconds * 1e9, best.costShaftSeconds * 1e9, best.costTestSeconds * 1e9,
+        best.costCullScale, (unsigned long long)best.costGateClosedWaves);
     return 0;
 }

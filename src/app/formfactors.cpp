@@ -35,9 +35,24 @@ void printVerboseStats(const FormFactorStats& s) {
                       formatCount(s.coveredPairs), " (", percentOf(s.coveredPairs, s.pairs), ")"));
     logVerbose(concat("  traced: ", formatCount(s.tracedPairs), " pairs (",
                       percentOf(s.tracedPairs, s.pairs), "), ", formatCount(s.hiddenPairs),
-                      " fully hidden; ", formatCount(s.raysCast), " rays, ",
+                      " of them 0; ", formatCount(s.raysCast), " rays, ",
                       formatSi(s.pairSeconds > 0 ? double(s.raysCast) / s.pairSeconds : 0),
                       "rays/s over the pair loop"));
+    if (s.costRaySeconds > 0) {
+        const auto ns = [](double seconds) { return formatNumber(seconds * 1e9, 3) + " ns"; };
+        logVerbose(concat(
+            "  cost model: a ray ", ns(s.costRaySeconds), ", a shaft with its query ",
+            ns(s.costQuerySeconds), ", a shaft ", ns(s.costShaftSeconds), ", a polygon test ",
+            ns(s.costTestSeconds), " (one thread); culled ", formatCount(s.culledClusterPairs),
+            " cluster pairs, traced ", formatCount(s.costTracedClusterPairs),
+            " without culling (rays cheaper), stopped ", formatCount(s.costStoppedRefinements),
+            " refinements; culling measured over predicted ", formatNumber(s.costCullScale, 3),
+            "; culling sampled only after ", formatCount(s.costGateClosedWaves),
+            " waves where it had cost more than it saved"));
+    } else if (s.culledClusterPairs > 0) {
+        logVerbose(concat("  cost model off: culled all ", formatCount(s.culledClusterPairs),
+                          " cluster pairs"));
+    }
     logVerbose(concat("  time: candidates ", formatDuration(s.countSeconds), ", pairs ",
                       formatDuration(s.pairSeconds), ", compaction ",
                       formatDuration(s.compactSeconds), "; peak work memory ",

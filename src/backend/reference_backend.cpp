@@ -1,6 +1,7 @@
 // The reference backend (DESIGN.md section 8): the shared pair kernel (shared/pair_kernel.h) run
 // on the CPU over our flat BVH (geometry/flat_bvh.h), one TBB task per chunk of pairs. It is the
-// oracle the GPU backends are checked against: the same source, no shaft culling, no Embree.
+// oracle the GPU backends are checked against: the same source, no Embree, the same driver as
+// every backend (radiosity/form_factors.h); with shaftCulling off it traces every candidate.
 // Every entry is a pure function of (pair, settings), so F is the same for any thread count.
 // The stochastic method is refused (buildFromPairBatches): it is not a per-pair kernel.
 #include <tbb/blocked_range.h>
@@ -10,6 +11,7 @@
 #include "backend/pair_batches.h"
 #include "geometry/flat_bvh.h"
 #include "radiosity/form_factors_internal.h"
+#include "radiosity/pair_evaluator.h"
 #include "radiosity/ray_caster.h"
 #include "shared/pair_kernel.h"
 
@@ -36,19 +38,17 @@ public:
         const shared::BvhTriangleBuffer triangles{bvh->triangles.data()};
         const int method = detail::methodConstant(settings.method);
         const int level = settings.quadratureLevel;
-        const int rays = settings.raysPerPair;
         const uint32_t seed = detail::seed32(settings.seed);
-        const float clearance = shadowClearance(mesh);
-        const PairEvaluator evaluate = [&](std::span<const shared::PairIndex> pairs,
-                                           std::span<shared::PairFactors> out) -> Expected<void> {
+        const PairKernelBatch evaluate = [&](std::span<const shared::PairIndex> pairs, int rays,
+                                             std::span<shared::PairFactors> out) -> Expected<void> {
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs.size(), 64),
                               [&](const tbb::blocked_range<std::size_t>& range) {
                                   for (std::size_t k = range.begin(); k != range.end(); ++k) {
                                       const uint32_t i = pairs[k].i;
                                       const uint32_t j = pairs[k].j;
-                                      out[k] = shared::pairEntry(i, j, patches[i], patches[j],
-                                                                 method, level, rays, seed,
-                                                                 clearance, nodes, triangles);
+                                      out[k] = shared::pairEntry(
+                                          i, j, patches[i], patches[j], method, level, rays, seed,
+                                          kEndClearanceRelative, nodes, triangles);
                                   }
                               });
             return {};

@@ -1,5 +1,6 @@
-// The deterministic pair loop (DESIGN.md section 3), one class with its culling and storage;
-// about 600 lines because they share its state. The stochastic method is in
+// The one form-factor driver of every pair backend (DESIGN.md section 3): one class with its
+// culling, cost model and storage, about 700 lines because they share its state; the backends
+// only evaluate batches of pairs (radiosity/pair_evaluator.h). The stochastic method is in
 // stochastic_form_factors.cpp.
 #include "radiosity/form_factors.h"
 
@@ -21,12 +22,13 @@
 #include "radiosity/blocker_bvh.h"
 #include "radiosity/form_factors_internal.h"
 #include "radiosity/patch_clusters.h"
+#include "radiosity/ray_pair_evaluator.h"
 #include "radiosity/shaft.h"
-#include "radiosity/visibility_samples.h"
 #include "shared/config.h"
 #include "shared/formfactor.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
+#include "shared/visibility.h"
 
 namespace daisy {
 namespace detail {
@@ -75,30 +77,32 @@ namespace {
 
 using detail::computeStochastic;
 using detail::kernelGeometry;
-using detail::methodConstant;
-using detail::seed32;
+using shared::PairIndex;
 using shared::PatchGeometry;
 using shared::vec3;
 
-// Shafts treat points within this fraction of the scene's diagonal as on a plane: a few float
-// roundings of the coordinates, far below any modelled gap.
+// Shafts treat points within this fraction of the size of what they are built from (the two
+// outlines' bounding box) as on a plane, plus kRoundingRelative of those coordinates' magnitude
+// (a few float roundings of where they are): relative to the patches involved, never to the
+// scene, so one far triangle changes no nearby decision (issue 18).
 constexpr double kShaftToleranceRelative = 1e-6;
-// Shadow segments stop this fraction of the scene's diagonal short of their patches' planes
-// (shadowSegments): several float roundings of the coordinates, so the end patches never
-// report themselves as blockers.
-constexpr double kEndClearanceRelative = 2e-6;
+constexpr double kRoundingRelative = 2.5e-7;
 // Consecutive clusters are grouped into row blocks of at least this many rows, one task each.
 // Each block keeps a column table of n uint32 (where its rows' mirrored entries start in every
 // lower row), so the tables cost n^2 / 8 bytes in all, about 1/40 of the matrix.
 constexpr uint32_t kMinRowBlockRows = 32;
-
-// Node pairs with at most this many patch pairs are traced rather than refined: below it, a
-// further split resolves so few pairs (most such shafts are truly partly blocked) that building
-// the smaller shafts costs more than the rays it saves (measured in docs/performance.md).
+// Node pairs with at most this many patch pairs are traced rather than refined.
 constexpr uint64_t kMinRefinePairs = 4;
-// Pairs waiting for rays are traced once their segments reach this count (1.5 MB of scratch
-// a thread), so a large --rays cannot make the scratch grow with the cluster size.
-constexpr std::size_t kMaxPendingSegments = 1 << 16;
+// Row blocks are classified in waves of about this many candidate pairs, whose pairs are then
+// evaluated in the backend's batches: the pending lists are bounded by the wave, not the scene.
+constexpr uint64_t kWavePairs = uint64_t(1) << 20;
+// The cost model refines a node pair only while its shafts cost less than this fraction of
+// tracing its pairs: a split resolves only part of its pairs (most small shafts are truly
+// partly blocked), so it must be clearly cheaper to pay.
+constexpr double kRefineBenefit = 0.5;
+// With the gate closed (culling has cost more than its rays saved), one cluster pair in this
+// many is still culled, so the gate can open again where culling starts to pay.
+constexpr std::size_t kGateSample = 8;
 
 // Candidate pairs (i < j, not facing away), one bit each; every row starts on a word boundary
 // so rows can be filled in parallel.
@@ -130,9 +134,11 @@ void addStats(FormFactorStats& total, const FormFactorStats& part) {
     total.coveredPairs += part.coveredPairs;
     total.tracedPairs += part.tracedPairs;
     total.hiddenPairs += part.hiddenPairs;
-    total.openPairs += part.openPairs;
     total.raysCast += part.raysCast;
     total.shaftsBuilt += part.shaftsBuilt;
+    total.culledClusterPairs += part.culledClusterPairs;
+    total.costTracedClusterPairs += part.costTracedClusterPairs;
+    total.costStoppedRefinements += part.costStoppedRefinements;
 }
 
 // What shaft culling decided for a pair of a cluster pair.
@@ -143,11 +149,21 @@ enum class Visibility : uint8_t {
     Covered,  // V = 0: a solid face crosses the whole shaft
 };
 
-// A pair waiting for its shadow rays.
+// A pair waiting for the backend: where its two entries go.
 struct PendingPair {
     uint64_t slot;  // of F_ij
     uint64_t mirrorSlot;  // of F_ji
     uint32_t i, j;
+};
+
+// What one row block hands to the evaluation: its pairs by kind, and its counts.
+struct BlockOutput {
+    std::vector<PendingPair> clear;  // V = 1: the unoccluded factor
+    std::vector<PendingPair> trace;  // the K rays
+    FormFactorStats stats;
+    uint64_t pairs = 0;  // unordered pairs of the block, for progress
+    double cullSeconds = 0;  // spent culling (thread seconds)
+    double cullPredicted = 0;  // what the calibrated model predicted for that work
 };
 
 struct ThreadScratch {
@@ -160,84 +176,100 @@ struct ThreadScratch {
     }
     std::vector<uint32_t> blockers;  // a stack of blocker lists, one per refinement level
     std::vector<Visibility> visibility;  // per pair of the current cluster pair
-    std::vector<PendingPair> pending;
-    SegmentArrays segments;
-    std::vector<uint8_t> blocked;
     std::vector<uint64_t> cursor;  // per row of the block: next upper slot
     std::vector<uint32_t> columnCursor;  // per column: mirrored entries written by the block
     uint32_t firstRow = 0;  // of the block
 };
 
+// Bounds of two point sets.
+Bounds3d boundsOf(std::span<const Vec3d> a, std::span<const Vec3d> b) {
+    Bounds3d bounds;
+    for (const Vec3d& v : a)
+        bounds.extend(v);
+    for (const Vec3d& v : b)
+        bounds.extend(v);
+    return bounds;
+}
+
+// The plane tolerance of geometry within `bounds` (scene units).
+double toleranceOf(const Bounds3d& bounds) {
+    double magnitude = 0;
+    for (int axis = 0; axis < 3; ++axis)
+        magnitude = std::max({magnitude, std::fabs(bounds.lo[axis]), std::fabs(bounds.hi[axis])});
+    return kShaftToleranceRelative * bounds.diagonal() + kRoundingRelative * magnitude;
+}
+
 class PairLoop {
 public:
-    PairLoop(const PatchMesh& mesh, const FormFactorSettings& settings, const RayCaster& rays)
+    PairLoop(const PatchMesh& mesh, const FormFactorSettings& settings, PairEvaluator& evaluator)
         : mesh_(mesh),
           settings_(settings),
-          rays_(rays),
+          evaluator_(evaluator),
           n_(static_cast<uint32_t>(mesh.patchCount())),
           geometry_(kernelGeometry(mesh)),
-          diagonal_(std::max(1e-300, meshDiagonal(mesh))),
-          tolerance_(kShaftToleranceRelative * diagonal_),
-          endClearance_(static_cast<float>(kEndClearanceRelative * diagonal_)),
-          coverMargin_(std::max(tolerance_, 4.0 * RayCaster::kSegmentMargin * diagonal_)),
-          clusters_(buildPatchClusters(mesh, tolerance_)),
+          clusters_(buildPatchClusters(mesh, kShaftToleranceRelative)),
           bvh_(clusters_.blockers),
           candidates_(n_),
-          seed_(seed32(settings.seed)),
-          method_(methodConstant(settings.method)) {}
+          batchPairs_(std::max<std::size_t>(
+              1, std::min<std::size_t>(evaluator.batchPairs(), kWavePairs))) {}
 
     Expected<FormFactorResult> run();
 
 private:
-    static double meshDiagonal(const PatchMesh& mesh) {
-        Bounds3d bounds;
-        for (const Vec3d& p : mesh.positions)
-            bounds.extend(p);
-        return bounds.diagonal();
-    }
+    bool culling() const { return settings_.raysPerPair > 0 && settings_.shaftCulling; }
     bool clusterFacesAway(const ClusterNode& a, const ClusterNode& b) const;
     SkipPlane clusterPlane(const ClusterNode& cluster) const {
         const Vec3d& normal = mesh_.normals[cluster.begin];
         return {normal, dot(normal, mesh_.positions[mesh_.patches[cluster.begin][0]])};
     }
     void countCandidates();
-    void computeBlock(std::size_t block, ThreadScratch& scratch, FormFactorStats& stats,
-                      Progress& progress);
-    void computeCluster(std::size_t block, std::size_t a, ThreadScratch& scratch,
-                        FormFactorStats& stats, Progress& progress);
+    void calibrate();
+    void computeBlock(std::size_t block, ThreadScratch& scratch, BlockOutput& out);
+    void computeCluster(std::size_t block, std::size_t a, ThreadScratch& scratch, BlockOutput& out);
     void refine(uint32_t nodeA, uint32_t nodeB, std::size_t lo, std::size_t hi, int depth,
                 const ClusterNode& rowCluster, const ClusterNode& columnCluster,
-                ThreadScratch& scratch, FormFactorStats& stats) const;
+                ThreadScratch& scratch, BlockOutput& out) const;
     bool covered(const ClusterNode& a, const ClusterNode& b, const uint32_t* blockers,
                  std::size_t count) const;
-    void tracePending(ThreadScratch& scratch, FormFactorStats& stats);
+    Expected<void> evaluate(const std::vector<BlockOutput>& outputs, bool traced);
     void buildRowBlocks();
-    // Unoccluded F_ij of a candidate pair (>= 0), from the shared kernel in the accurate
-    // direction.
-    float unoccludedFactor(uint32_t i, uint32_t j) const {
-        const float f =
-            shared::pairFactors(method_, settings_.quadratureLevel, geometry_[i], geometry_[j]).fij;
-        return f > 0.0f ? f : 0.0f;
-    }
     // Stores F_ij and, by reciprocity, F_ji = F_ij A_i / A_j (rounded once, from the float).
     void setPair(uint64_t slot, uint64_t mirrorSlot, uint32_t i, uint32_t j, float fij) {
         matrix_.values[slot] = fij;
         matrix_.values[mirrorSlot] =
             static_cast<float>(double(fij) * (mesh_.areas[i] / mesh_.areas[j]));
     }
+    // Estimated seconds (one thread) of tracing `pairs` pairs.
+    double traceCost(uint64_t pairs) const {
+        return double(pairs) * settings_.raysPerPair * stats_.costRaySeconds;
+    }
+    // Calibrated seconds (one thread) of `children` sub-shafts filtering `blockers` blockers,
+    // each also scanned by the cover test, before the online correction.
+    double splitBase(int children, std::size_t blockers) const {
+        return double(children) *
+            (stats_.costShaftSeconds + 2.0 * double(blockers) * stats_.costTestSeconds);
+    }
+    // After each wave, the measured time of culling against what the calibrated model
+    // predicted for it (cumulative, clamped to [1/4, 16]): the model corrects its own bias (the
+    // rays are not corrected so: a traced batch's time cannot be split into rays and kernel);
+    // and the gate: culling stays on only while it has saved more ray time than it took.
+    void correctCosts(const std::vector<BlockOutput>& outputs);
 
     const PatchMesh& mesh_;
     const FormFactorSettings& settings_;
-    const RayCaster& rays_;
+    PairEvaluator& evaluator_;
     uint32_t n_;
     std::vector<PatchGeometry> geometry_;
-    double diagonal_;
-    double tolerance_;
-    float endClearance_;
-    double coverMargin_;
     PatchClusters clusters_;
     BlockerBvh bvh_;
     CandidateBitmap candidates_;
+    std::size_t batchPairs_;
+    bool costModel_ = false;  // on once calibrated
+    double cullScale_ = 1;  // measured / predicted culling time so far
+    double cullSeconds_ = 0, cullPredicted_ = 0;
+    // Open while culling has so far saved more ray time than it took; closed, only one cluster
+    // pair in kGateSample is culled (to keep measuring), the rest traced.
+    bool gateOpen_ = true;
     std::vector<uint32_t> lowerCount_;  // per row: candidates j < i
     std::vector<uint32_t> upperCount_;  // per row: candidates j > i
     // Row blocks: clusters [blockCluster_[r], blockCluster_[r + 1]). columnBase_[r * n + j]: the
@@ -245,21 +277,24 @@ private:
     // lower part of row j.
     std::vector<uint32_t> blockCluster_;
     std::vector<uint32_t> columnBase_;
-    uint32_t seed_;
-    int method_;
     SparseMatrix matrix_;
     FormFactorStats stats_;
+    // Evaluation scratch, reused across batches.
+    std::vector<PairIndex> batch_;
+    std::vector<float> results_;
 };
 
 // True when no patch of b is in front of a's plane or none of a in front of b's (outlines hold
 // every corner), so every pair between them faces away and the per-pair test can be skipped.
-// "In front" allows 1e-9 of the scene's diagonal, far below facingAway's own 1e-5 relative
-// margin, so this never drops a pair the kernel would keep.
+// "In front" allows 1e-9 of the two clusters' coordinates, far below facingAway's own margins,
+// so this never drops a pair the kernel would keep.
 bool PairLoop::clusterFacesAway(const ClusterNode& a, const ClusterNode& b) const {
-    const double margin = 1e-9 * diagonal_;
     const auto behind = [&](const ClusterNode& plane, const ClusterNode& other) {
         const Vec3d& normal = mesh_.normals[plane.begin];
         const double offset = dot(normal, mesh_.positions[mesh_.patches[plane.begin][0]]);
+        const Bounds3d bounds = boundsOf(clusters_.outline(plane), clusters_.outline(other));
+        const double margin =
+            1e-9 * (bounds.diagonal() + std::max(length(bounds.lo), length(bounds.hi)));
         for (const Vec3d& v : clusters_.outline(other)) {
             if (dot(normal, v) - offset > margin) return false;
         }
@@ -322,13 +357,137 @@ void PairLoop::countCandidates() {
     });
 }
 
+// The cost model's constants, measured on this scene and backend (issue 18): the seconds of
+// one ray (the backend's wall time per segment of a batch times the worker count, i.e. per
+// thread, as culling runs on every worker), of one shaft with its blocker query, of one shaft
+// build and of one shaft-polygon test. Samples: up to 64 distinct cluster pairs spread over the
+// matrix that face each other, and up to 256 of their candidate pairs for the rays, evaluated
+// with 17K and with K rays (best of 3): the difference is 16K rays a pair, the kernel cancels.
+// When the rays cannot be told from noise (0), the model stays off: every cluster pair is culled.
+void PairLoop::calibrate() {
+    const std::size_t clusterCount = clusters_.clusterCount();
+    if (!culling() || !settings_.costModel || clusterCount < 2) return;
+    struct Sample {
+        std::size_t a, b;
+    };
+    constexpr std::size_t kPairs = 256;
+    std::vector<Sample> samples;
+    std::vector<PairIndex> pairs;
+    for (uint32_t s = 0; s < 4096 && samples.size() < 64; ++s) {
+        const std::size_t a = shared::pcgHash(2 * s + 1) % clusterCount;
+        const std::size_t b = shared::pcgHash(2 * s + 2) % clusterCount;
+        if (a == b) continue;
+        const std::size_t lo = std::min(a, b), hi = std::max(a, b);
+        if (std::any_of(samples.begin(), samples.end(),
+                        [&](const Sample& x) { return x.a == lo && x.b == hi; }) ||
+            clusterFacesAway(clusters_.cluster(lo), clusters_.cluster(hi))) {
+            continue;
+        }
+        samples.push_back({lo, hi});
+        const ClusterNode& rows = clusters_.cluster(lo);
+        const ClusterNode& cols = clusters_.cluster(hi);
+        // A few pairs of each sample, so that the rays see the whole scene.
+        std::size_t taken = 0;
+        for (uint32_t i = rows.begin; i < rows.end && taken < kPairs / 32; ++i) {
+            for (uint32_t j = cols.begin; j < cols.end && taken < kPairs / 32; j += 3) {
+                if (candidates_.test(i, j) && pairs.size() < kPairs) {
+                    pairs.push_back({i, j});
+                    ++taken;
+                }
+            }
+        }
+    }
+    if (samples.empty() || pairs.empty()) return;
+    const double threads = std::max(1, tbb::this_task_arena::max_concurrency());
+    std::vector<float> out(pairs.size());
+    const auto timed = [&](int rays) {
+        const auto t0 = Clock::now();
+        for (std::size_t first = 0; first < pairs.size(); first += batchPairs_) {
+            const std::size_t count = std::min(batchPairs_, pairs.size() - first);
+            if (!evaluator_.evaluate(std::span(pairs).subspan(first, count), rays,
+                                     std::span(out).subspan(first, count))) {
+                return -1.0;
+            }
+        }
+        return secondsSince(t0);
+    };
+    const int perPair = settings_.raysPerPair;
+    double few = 1e300, many = 1e300;
+    for (int repeat = 0; repeat < 3; ++repeat) {
+        const double a = timed(perPair);
+        const double b = timed(17 * perPair);
+        if (a < 0 || b < 0) return;  // the build reports the error itself
+        few = std::min(few, a);
+        many = std::min(many, b);
+    }
+    stats_.costRaySeconds =
+        std::max(0.0, many - few) * threads / (double(pairs.size()) * 16 * perPair);
+    // Culling, each best of two passes (the first warms the caches): shafts with their
+    // queries, shaft builds alone, and each sample shaft tested against the blockers its query
+    // kept (what refinement filters).
+    Shaft shaft;
+    std::vector<std::vector<uint32_t>> found(samples.size());
+    const auto outlines = [&](const Sample& x, const auto& use) {
+        const ClusterNode& p = clusters_.cluster(x.a);
+        const ClusterNode& q = clusters_.cluster(x.b);
+        use(p, q, toleranceOf(boundsOf(clusters_.outline(p), clusters_.outline(q))));
+    };
+    double query = 1e300, build = 1e300, test = 1e300;
+    uint64_t tests = 0, excluded = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        auto t0 = Clock::now();
+        for (std::size_t k = 0; k < samples.size(); ++k) {
+            outlines(samples[k], [&](const ClusterNode& p, const ClusterNode& q, double tol) {
+                found[k].clear();
+                if (shaft.build(clusters_.outline(p), clusters_.outline(q), tol))
+                    bvh_.query(shaft, clusterPlane(p), clusterPlane(q), tol, found[k]);
+            });
+        }
+        query = std::min(query, secondsSince(t0) / double(samples.size()));
+        t0 = Clock::now();
+        for (const Sample& x : samples) {
+            outlines(x, [&](const ClusterNode& p, const ClusterNode& q, double tol) {
+                shaft.build(clusters_.outline(p), clusters_.outline(q), tol);
+            });
+        }
+        build = std::min(build, secondsSince(t0) / double(samples.size()));
+        double seconds = 0;
+        tests = 0;
+        for (std::size_t k = 0; k < samples.size(); ++k) {
+            outlines(samples[k], [&](const ClusterNode& p, const ClusterNode& q, double tol) {
+                if (found[k].empty() ||
+                    !shaft.build(clusters_.outline(p), clusters_.outline(q), tol)) {
+                    return;
+                }
+                const auto t1 = Clock::now();
+                for (uint32_t blocker : found[k])
+                    excluded += shaft.excludesPolygon(clusters_.blockers[blocker]) ? 1 : 0;
+                seconds += secondsSince(t1);
+                tests += found[k].size();
+            });
+        }
+        if (tests > 0) test = std::min(test, seconds / double(tests));
+    }
+    stats_.costQuerySeconds = query;
+    stats_.costShaftSeconds = build;
+    // No sample shaft kept a blocker: refinement never runs, so its price does not matter.
+    stats_.costTestSeconds = tests > 0 ? test : 0;
+    [[maybe_unused]] volatile uint64_t keep = excluded;  // the timed tests are not dead code
+    costModel_ = stats_.costRaySeconds > 0;
+}
+
 bool PairLoop::covered(const ClusterNode& a, const ClusterNode& b, const uint32_t* blockers,
                        std::size_t count) const {
+    const Bounds3d bounds = boundsOf(clusters_.outline(a), clusters_.outline(b));
+    // Segments stop kSegmentMargin of their length short of each end: a covering face must
+    // clear that much of the shaft's size too.
+    const double margin =
+        std::max(toleranceOf(bounds), 4.0 * RayCaster::kSegmentMargin * bounds.diagonal());
     for (std::size_t k = 0; k < count; ++k) {
         const uint32_t face = clusters_.blockerFace[blockers[k]];
         if (face != kNoFace &&
             faceCoversShaft(clusters_.faces[face], clusters_.outline(a), clusters_.outline(b),
-                            coverMargin_)) {
+                            margin)) {
             return true;
         }
     }
@@ -337,11 +496,13 @@ bool PairLoop::covered(const ClusterNode& a, const ClusterNode& b, const uint32_
 
 // Shaft refinement of the node pair (nodeA, nodeB) whose blockers are scratch.blockers[lo, hi):
 // an empty list makes every pair clear, a covering solid face makes every pair hidden, a small
-// node pair is traced; otherwise both nodes are halved and each of the four sub-shafts filters
-// the list (a sub-shaft lies inside its parent, so no blocker is missed).
+// node pair, or one whose smaller shafts the cost model prices above its rays, is traced;
+// otherwise both nodes are halved and each of the four sub-shafts filters the list (a sub-shaft
+// lies inside its parent, so no blocker is missed).
 void PairLoop::refine(uint32_t nodeA, uint32_t nodeB, std::size_t lo, std::size_t hi, int depth,
                       const ClusterNode& rowCluster, const ClusterNode& columnCluster,
-                      ThreadScratch& scratch, FormFactorStats& stats) const {
+                      ThreadScratch& scratch, BlockOutput& out) const {
+    FormFactorStats& stats = out.stats;
     const ClusterNode& a = clusters_.nodes[nodeA];
     const ClusterNode& b = clusters_.nodes[nodeB];
     const auto mark = [&](Visibility v) {
@@ -360,15 +521,23 @@ void PairLoop::refine(uint32_t nodeA, uint32_t nodeB, std::size_t lo, std::size_
         mark(Visibility::Covered);
         return;
     }
-    if (uint64_t(a.end - a.begin) * (b.end - b.begin) <= kMinRefinePairs) {
+    const uint64_t pairs = uint64_t(a.end - a.begin) * (b.end - b.begin);
+    if (pairs <= kMinRefinePairs) {
         mark(Visibility::Trace);
         return;
     }
+    const int countA = a.firstChild != 0 ? 2 : 1;
+    const int countB = b.firstChild != 0 ? 2 : 1;
+    const double split = splitBase(countA * countB, hi - lo);
+    if (costModel_ && cullScale_ * split > kRefineBenefit * traceCost(pairs)) {
+        ++stats.costStoppedRefinements;
+        mark(Visibility::Trace);
+        return;
+    }
+    out.cullPredicted += split;
     // Halve both nodes (or the one that still can be): four (or two) smaller shafts.
     const uint32_t childrenA[2] = {a.firstChild != 0 ? a.firstChild : nodeA, a.firstChild + 1};
     const uint32_t childrenB[2] = {b.firstChild != 0 ? b.firstChild : nodeB, b.firstChild + 1};
-    const int countA = a.firstChild != 0 ? 2 : 1;
-    const int countB = b.firstChild != 0 ? 2 : 1;
     for (int x = 0; x < countA; ++x) {
         for (int y = 0; y < countB; ++y) {
             const ClusterNode& ca = clusters_.nodes[childrenA[x]];
@@ -377,7 +546,8 @@ void PairLoop::refine(uint32_t nodeA, uint32_t nodeB, std::size_t lo, std::size_
             Shaft& shaft = scratch.shaft(depth + 1);
             ++stats.shaftsBuilt;
             const bool valid =
-                shaft.build(clusters_.outline(ca), clusters_.outline(cb), tolerance_);
+                shaft.build(clusters_.outline(ca), clusters_.outline(cb),
+                            toleranceOf(boundsOf(clusters_.outline(ca), clusters_.outline(cb))));
             for (std::size_t k = lo; k < hi; ++k) {
                 const uint32_t blocker = scratch.blockers[k];
                 if (!valid || !shaft.excludesPolygon(clusters_.blockers[blocker])) {
@@ -385,46 +555,17 @@ void PairLoop::refine(uint32_t nodeA, uint32_t nodeB, std::size_t lo, std::size_
                 }
             }
             refine(childrenA[x], childrenB[y], childLo, scratch.blockers.size(), depth + 1,
-                   rowCluster, columnCluster, scratch, stats);
+                   rowCluster, columnCluster, scratch, out);
             scratch.blockers.resize(childLo);
         }
     }
-}
-
-void PairLoop::tracePending(ThreadScratch& scratch, FormFactorStats& stats) {
-    if (scratch.pending.empty()) return;
-    const int k = settings_.raysPerPair;
-    scratch.segments.resize(scratch.pending.size() * std::size_t(k));
-    scratch.blocked.resize(scratch.segments.size());
-    for (std::size_t p = 0; p < scratch.pending.size(); ++p) {
-        const PendingPair& pair = scratch.pending[p];
-        shadowSegments(shared::pairSeed(pair.i, pair.j, seed_), k, geometry_[pair.i],
-                       geometry_[pair.j], endClearance_, scratch.segments, p * k);
-    }
-    rays_.occluded(scratch.segments, scratch.blocked);
-    std::size_t s = 0;
-    for (const PendingPair& pair : scratch.pending) {
-        int open = 0;
-        for (int r = 0; r < k; ++r, ++s)
-            open += scratch.blocked[s] == 0 ? 1 : 0;
-        const float factor = open > 0 ? unoccludedFactor(pair.i, pair.j) : 0.0f;
-        setPair(pair.slot, pair.mirrorSlot, pair.i, pair.j,
-                static_cast<float>(double(factor) * double(open) / double(k)));
-        stats.zeroFactor += open > 0 && factor == 0.0f ? 1 : 0;
-        stats.hiddenPairs += open == 0 ? 1 : 0;
-        stats.openPairs += open == k ? 1 : 0;
-    }
-    stats.tracedPairs += scratch.pending.size();
-    stats.raysCast += scratch.segments.size();
-    scratch.pending.clear();
 }
 
 // One row block: its clusters in order, each against every cluster from itself on. Upper entries
 // go to each row's running cursor; mirrored entries F_ji = F_ij A_i / A_j go to row j at the
 // block's column base plus a per-column cursor, so every row ends up in ascending column order
 // with no pass over the matrix afterwards.
-void PairLoop::computeBlock(std::size_t block, ThreadScratch& scratch, FormFactorStats& stats,
-                            Progress& progress) {
+void PairLoop::computeBlock(std::size_t block, ThreadScratch& scratch, BlockOutput& out) {
     const uint32_t firstRow = clusters_.cluster(blockCluster_[block]).begin;
     const uint32_t endRow = clusters_.cluster(blockCluster_[block + 1] - 1).end;
     scratch.cursor.resize(endRow - firstRow);
@@ -433,43 +574,55 @@ void PairLoop::computeBlock(std::size_t block, ThreadScratch& scratch, FormFacto
     scratch.columnCursor.assign(n_, 0);
     scratch.firstRow = firstRow;
     for (std::size_t a = blockCluster_[block]; a < blockCluster_[block + 1]; ++a)
-        computeCluster(block, a, scratch, stats, progress);
+        computeCluster(block, a, scratch, out);
 }
 
 void PairLoop::computeCluster(std::size_t block, std::size_t a, ThreadScratch& scratch,
-                              FormFactorStats& stats, Progress& progress) {
+                              BlockOutput& out) {
     const ClusterNode& rowCluster = clusters_.cluster(a);
     const uint32_t* columnBase = columnBase_.data() + block * n_;
     const bool visibility = settings_.raysPerPair > 0;
+    FormFactorStats& stats = out.stats;
     for (std::size_t b = a; b < clusters_.clusterCount(); ++b) {
         const ClusterNode& columnCluster = clusters_.cluster(b);
         const uint32_t width = columnCluster.end - columnCluster.begin;
         const uint64_t blockPairs = a == b ? uint64_t(width) * (width - 1) / 2
                                            : uint64_t(rowCluster.end - rowCluster.begin) * width;
+        out.pairs += blockPairs;
         uint64_t blockCandidates = 0;
         for (uint32_t i = rowCluster.begin; i < rowCluster.end; ++i) {
             for (uint32_t j = std::max(columnCluster.begin, i + 1); j < columnCluster.end; ++j)
                 blockCandidates += candidates_.test(i, j) ? 1 : 0;
         }
         stats.facingAway += blockPairs - blockCandidates;
-        if (blockCandidates == 0) {
-            progress.advance(blockPairs);
-            continue;
-        }
+        if (blockCandidates == 0) continue;
         // Classify the block's pairs: shaft of the cluster pair, then refinement. Pairs inside
-        // one cluster (nearly coplanar) are simply traced.
+        // one cluster (nearly coplanar) are simply traced, and so are cluster pairs whose
+        // rays the cost model prices below one shaft query.
         scratch.visibility.assign(std::size_t(rowCluster.end - rowCluster.begin) * width,
                                   visibility ? Visibility::Trace : Visibility::ClearCluster);
-        if (visibility && settings_.shaftCulling && a != b) {
-            Shaft& shaft = scratch.shaft(0);
-            ++stats.shaftsBuilt;
-            if (shaft.build(clusters_.outline(rowCluster), clusters_.outline(columnCluster),
-                            tolerance_)) {
-                scratch.blockers.clear();
-                bvh_.query(shaft, clusterPlane(rowCluster), clusterPlane(columnCluster), tolerance_,
-                           scratch.blockers);
-                refine(clusters_.clusterRoot[a], clusters_.clusterRoot[b], 0,
-                       scratch.blockers.size(), 0, rowCluster, columnCluster, scratch, stats);
+        if (culling() && a != b) {
+            if (costModel_ &&
+                ((!gateOpen_ && (a + b) % kGateSample != 0) ||
+                 traceCost(blockCandidates) < cullScale_ * stats_.costQuerySeconds)) {
+                ++stats.costTracedClusterPairs;
+            } else {
+                ++stats.culledClusterPairs;
+                const auto cullStart = Clock::now();
+                out.cullPredicted += stats_.costQuerySeconds;
+                Shaft& shaft = scratch.shaft(0);
+                ++stats.shaftsBuilt;
+                const double tolerance = toleranceOf(
+                    boundsOf(clusters_.outline(rowCluster), clusters_.outline(columnCluster)));
+                if (shaft.build(clusters_.outline(rowCluster), clusters_.outline(columnCluster),
+                                tolerance)) {
+                    scratch.blockers.clear();
+                    bvh_.query(shaft, clusterPlane(rowCluster), clusterPlane(columnCluster),
+                               tolerance, scratch.blockers);
+                    refine(clusters_.clusterRoot[a], clusters_.clusterRoot[b], 0,
+                           scratch.blockers.size(), 0, rowCluster, columnCluster, scratch, out);
+                }
+                out.cullSeconds += secondsSince(cullStart);
             }
         }
         for (uint32_t i = rowCluster.begin; i < rowCluster.end; ++i) {
@@ -488,31 +641,74 @@ void PairLoop::computeCluster(std::size_t block, std::size_t a, ThreadScratch& s
                     matrix_.values[slot] = 0.0f;
                     matrix_.values[mirrorSlot] = 0.0f;
                     ++stats.coveredPairs;
-                    continue;
-                }
-                if (v == Visibility::Trace) {
-                    // The factor waits for the rays: a pair they find fully hidden needs none.
-                    scratch.pending.push_back({slot, mirrorSlot, i, j});
-                    if (scratch.pending.size() * std::size_t(settings_.raysPerPair) >=
-                        kMaxPendingSegments) {
-                        tracePending(scratch, stats);
-                    }
-                    continue;
-                }
-                const float factor = unoccludedFactor(i, j);
-                setPair(slot, mirrorSlot, i, j, factor);
-                if (factor == 0.0f) {
-                    ++stats.zeroFactor;
-                } else if (v == Visibility::ClearCluster) {
-                    stats.clearClusterShafts += visibility ? 1 : 0;
+                } else if (v == Visibility::Trace) {
+                    out.trace.push_back({slot, mirrorSlot, i, j});
                 } else {
-                    ++stats.clearPairShafts;
+                    out.clear.push_back({slot, mirrorSlot, i, j});
+                    if (!visibility) continue;
+                    (v == Visibility::ClearCluster ? stats.clearClusterShafts
+                                                   : stats.clearPairShafts) += 1;
                 }
             }
         }
-        tracePending(scratch, stats);
-        progress.advance(blockPairs);
     }
+}
+
+// Evaluates the wave's clear (traced = false: no rays) or traced pairs in the backend's batches,
+// in block order, and stores both entries of each.
+Expected<void> PairLoop::evaluate(const std::vector<BlockOutput>& outputs, bool traced) {
+    const int rays = traced ? settings_.raysPerPair : 0;
+    std::vector<const PendingPair*> owners;
+    const auto flush = [&]() -> Expected<void> {
+        if (batch_.empty()) return {};
+        if (isCancelled(settings_.cancel)) return Error{kInterruptedMessage};
+        results_.assign(batch_.size(), 0.0f);
+        Expected<void> done = evaluator_.evaluate(batch_, rays, results_);
+        if (!done) return withContext(done.error(), concat("backend '", evaluator_.name(), "'"));
+        for (std::size_t k = 0; k < batch_.size(); ++k) {
+            const PendingPair& pair = *owners[k];
+            const float fij = results_[k];
+            if (!(std::isfinite(fij) && fij >= 0.0f)) {
+                return Error{concat("backend '", evaluator_.name(), "' returned F_", pair.i, ",",
+                                    pair.j, " = ", fij, " (not a finite factor >= 0)")};
+            }
+            setPair(pair.slot, pair.mirrorSlot, pair.i, pair.j, fij);
+            if (fij == 0.0f) (traced ? stats_.hiddenPairs : stats_.zeroFactor) += 1;
+        }
+        if (traced) {
+            stats_.tracedPairs += batch_.size();
+            stats_.raysCast += batch_.size() * uint64_t(rays);
+        }
+        batch_.clear();
+        owners.clear();
+        return {};
+    };
+    for (const BlockOutput& out : outputs) {
+        for (const PendingPair& pair : traced ? out.trace : out.clear) {
+            batch_.push_back({pair.i, pair.j});
+            owners.push_back(&pair);
+            if (batch_.size() == batchPairs_) {
+                Expected<void> done = flush();
+                if (!done) return done;
+            }
+        }
+    }
+    return flush();
+}
+
+void PairLoop::correctCosts(const std::vector<BlockOutput>& outputs) {
+    for (const BlockOutput& out : outputs) {
+        cullSeconds_ += out.cullSeconds;
+        cullPredicted_ += out.cullPredicted;
+    }
+    if (cullPredicted_ > 0) cullScale_ = std::clamp(cullSeconds_ / cullPredicted_, 0.25, 16.0);
+    stats_.costCullScale = cullScale_;
+    // What culling saved: the rays of every pair it decided (clear or covered; the stats are
+    // cumulative, this wave's already added).
+    const uint64_t resolved =
+        stats_.clearClusterShafts + stats_.clearPairShafts + stats_.coveredPairs;
+    gateOpen_ = cullSeconds_ <= double(resolved) * settings_.raysPerPair * stats_.costRaySeconds;
+    stats_.costGateClosedWaves += gateOpen_ ? 0 : 1;
 }
 
 Expected<FormFactorResult> PairLoop::run() {
@@ -546,22 +742,50 @@ Expected<FormFactorResult> PairLoop::run() {
     matrix_.values.resize(stats_.slots);
 
     const auto pairStart = Clock::now();
+    const auto calibrateStart = Clock::now();
+    calibrate();
+    stats_.costCalibrationSeconds = stats_.costRaySeconds > 0 ? secondsSince(calibrateStart) : 0;
     {
         Progress progress("view factors", stats_.pairs, "pairs",
                           settings_.progress && progressEnabledByDefault(), settings_.onProgress);
         tbb::enumerable_thread_specific<ThreadScratch> scratch;
-        std::mutex statsMutex;
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blockCluster_.size() - 1, 1),
-                          [&](const tbb::blocked_range<std::size_t>& range) {
-                              FormFactorStats local;
-                              for (std::size_t block = range.begin(); block != range.end();
-                                   ++block) {
-                                  if (isCancelled(settings_.cancel)) break;
-                                  computeBlock(block, scratch.local(), local, progress);
-                              }
-                              std::lock_guard<std::mutex> lock(statsMutex);
-                              addStats(stats_, local);
-                          });
+        std::vector<BlockOutput> outputs;
+        const std::size_t blockCount = blockCluster_.size() - 1;
+        for (std::size_t first = 0; first < blockCount;) {
+            if (isCancelled(settings_.cancel)) return Error{kInterruptedMessage};
+            // A wave: blocks until about kWavePairs candidates (at least one block).
+            std::size_t last = first;
+            uint64_t wave = 0;
+            while (last < blockCount && (last == first || wave < kWavePairs)) {
+                const uint32_t begin = clusters_.cluster(blockCluster_[last]).begin;
+                const uint32_t end = clusters_.cluster(blockCluster_[last + 1] - 1).end;
+                for (uint32_t i = begin; i < end; ++i)
+                    wave += upperCount_[i];
+                ++last;
+            }
+            outputs.assign(last - first, BlockOutput{});
+            tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 1),
+                              [&](const tbb::blocked_range<std::size_t>& range) {
+                                  for (std::size_t block = range.begin(); block != range.end();
+                                       ++block) {
+                                      if (isCancelled(settings_.cancel)) break;
+                                      computeBlock(block, scratch.local(), outputs[block - first]);
+                                  }
+                              });
+            if (isCancelled(settings_.cancel)) return Error{kInterruptedMessage};
+            for (bool traced : {false, true}) {
+                Expected<void> done = evaluate(outputs, traced);
+                if (!done) return done.error();
+            }
+            uint64_t pairs = 0;
+            for (const BlockOutput& out : outputs) {
+                addStats(stats_, out.stats);
+                pairs += out.pairs;
+            }
+            if (costModel_) correctCosts(outputs);
+            progress.advance(pairs);
+            first = last;
+        }
     }
     stats_.pairSeconds = secondsSince(pairStart);
     if (isCancelled(settings_.cancel)) return Error{kInterruptedMessage};
@@ -620,13 +844,23 @@ uint64_t formFactorWorkBytes(uint64_t patchCount, uint64_t candidatePairs) {
     const uint64_t n = patchCount;
     const uint64_t rowBlocks = n / kMinRowBlockRows + 1;
     const uint64_t threads = std::max(1, tbb::this_task_arena::max_concurrency());
+    // A wave's pending pairs (at most kWavePairs plus one block of <= 2 x kMaxClusterSize
+    // rows) and one batch of pairs with their results.
+    const uint64_t wave = std::min(candidatePairs, kWavePairs + 2 * uint64_t(kMaxClusterSize) * n);
+    const uint64_t batch = std::min(candidatePairs, kWavePairs);
     return sparseMatrixBytes(n, 2 * candidatePairs) + CandidateBitmap::bytes(n) +
-        4 * n * rowBlocks + 4 * n * (2 + threads);
+        4 * n * rowBlocks + 4 * n * (2 + threads) + wave * sizeof(PendingPair) +
+        batch * (sizeof(PairIndex) + sizeof(float) + sizeof(void*));
 }
 
 Expected<FormFactorResult> computeFormFactors(const PatchMesh& mesh,
                                               const FormFactorSettings& settings,
-                                              const RayCaster& rays) {
+                                              PairEvaluator& evaluator) {
+    if (settings.method == FormFactorMethod::Stochastic) {
+        return Error{concat("backend '", evaluator.name(),
+                            "' has no stochastic method (its rays are per patch, not per pair); "
+                            "use --method hybrid, riemann or nusselt, or --backend cpu")};
+    }
     if (settings.quadratureLevel < 0 || settings.quadratureLevel > DAISY_MAX_QUADRATURE_LEVEL) {
         return Error{concat("--quadrature ", settings.quadratureLevel, " is outside 0..",
                             DAISY_MAX_QUADRATURE_LEVEL)};
@@ -637,12 +871,24 @@ Expected<FormFactorResult> computeFormFactors(const PatchMesh& mesh,
     if (mesh.patchCount() > UINT32_MAX - 1) return Error{"too many patches for 32-bit indices"};
     tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
     return arena.execute([&]() -> Expected<FormFactorResult> {
-        if (settings.method == FormFactorMethod::Stochastic) {
-            return computeStochastic(mesh, settings, rays);
-        }
-        PairLoop loop(mesh, settings, rays);
+        PairLoop loop(mesh, settings, evaluator);
         return loop.run();
     });
+}
+
+Expected<FormFactorResult> computeFormFactors(const PatchMesh& mesh,
+                                              const FormFactorSettings& settings,
+                                              const RayCaster& rays) {
+    if (settings.method != FormFactorMethod::Stochastic) {
+        const std::unique_ptr<PairEvaluator> evaluator = makeRayPairEvaluator(mesh, settings, rays);
+        return computeFormFactors(mesh, settings, *evaluator);
+    }
+    if (settings.raysPerPair < 0 || settings.stochasticRays < 1) {
+        return Error{"ray counts must be positive"};
+    }
+    if (mesh.patchCount() > UINT32_MAX - 1) return Error{"too many patches for 32-bit indices"};
+    tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+    return arena.execute([&]() { return computeStochastic(mesh, settings, rays); });
 }
 
 }  // namespace daisy

@@ -26,6 +26,7 @@
 #include "core/expected.h"
 #include "core/progress.h"
 #include "geometry/patch_mesh.h"
+#include "radiosity/pair_evaluator.h"
 #include "radiosity/ray_caster.h"
 #include "radiosity/sparse_matrix.h"
 
@@ -50,6 +51,10 @@ struct FormFactorSettings {
     int threads = 0;  // worker threads; 0 = all hardware threads
     uint64_t maxMemoryBytes = 0;  // refuse a build needing more; 0 = no limit
     bool shaftCulling = true;  // off only to measure what it saves
+    // With shaft culling: per cluster pair and per refinement step, cull only where the measured
+    // cost of the shafts is below that of the rays they could save (issue 18); off = always
+    // cull, as before the cost model (benchmarks only).
+    bool costModel = true;
     bool progress = true;  // progress line on a terminal (core/progress.h decides if shown)
     ProgressObserver onProgress;  // told of the pair loop's progress (core/progress.h); optional
     // Polled between row blocks / batches; when cancelled the build stops and returns the Error
@@ -69,11 +74,25 @@ struct FormFactorStats {
     uint64_t clearPairShafts = 0;  // pairs with V = 1 from a clear refined (smaller) shaft
     uint64_t coveredPairs = 0;  // pairs with V = 0 without rays: a solid face cuts the shaft
     uint64_t tracedPairs = 0;  // pairs whose visibility was ray cast
-    uint64_t hiddenPairs = 0;  // traced pairs with V = 0
-    uint64_t openPairs = 0;  // traced pairs with V = 1 (every ray reached)
+    uint64_t hiddenPairs = 0;  // traced pairs whose F came out 0 (hidden, or a zero factor)
     uint64_t raysCast = 0;  // shadow segments (or stochastic rays)
     uint64_t clusters = 0;
     uint64_t shaftsBuilt = 0;  // shafts constructed for culling
+    // The cost model: cluster pairs culled, cluster pairs traced because their rays cost less
+    // than a shaft query, node pairs traced because smaller shafts would cost more than their
+    // rays, and the measured costs (seconds of one thread; 0 when the model was off).
+    uint64_t culledClusterPairs = 0;
+    uint64_t costTracedClusterPairs = 0;
+    uint64_t costStoppedRefinements = 0;
+    double costRaySeconds = 0;  // one shadow segment
+    double costQuerySeconds = 0;  // one cluster-pair shaft with its blocker query
+    double costShaftSeconds = 0;  // one shaft build
+    double costTestSeconds = 0;  // one shaft-polygon test
+    double costCalibrationSeconds = 0;  // measuring them (part of pairSeconds)
+    // The online correction at the end: measured culling time over the predicted; and the
+    // waves after which culling had cost more than it saved (then only sampled).
+    double costCullScale = 1;
+    uint64_t costGateClosedWaves = 0;
     uint64_t slots = 0;  // CSR entries allocated before zeros were dropped
     uint64_t nonzeros = 0;
     uint64_t workBytes = 0;  // peak bytes of the build: CSR slots + bitmap + scratch
@@ -94,9 +113,15 @@ struct FormFactorResult {
 uint64_t formFactorWorkBytes(uint64_t patchCount, uint64_t candidatePairs);
 
 // Builds F. Fails with a message (exit status 2 in the app) when the settings are out of range
-// or the build would need more than settings.maxMemoryBytes.
+// or the build would need more than settings.maxMemoryBytes. The cpu backend's form: pairs
+// evaluated by radiosity/ray_pair_evaluator.h over `rays`; stochastic runs here too.
 Expected<FormFactorResult> computeFormFactors(const PatchMesh& mesh,
                                               const FormFactorSettings& settings,
                                               const RayCaster& rays);
+// The same driver over any backend's pair evaluation (riemann, nusselt and hybrid; stochastic
+// is refused with a message naming the backend).
+Expected<FormFactorResult> computeFormFactors(const PatchMesh& mesh,
+                                              const FormFactorSettings& settings,
+                                              PairEvaluator& evaluator);
 
 }  // namespace daisy

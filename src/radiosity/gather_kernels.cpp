@@ -118,6 +118,66 @@ __attribute__((target("avx2,fma"))) void accumulateAvx2(const uint32_t* columns,
         _mm256_storeu_pd(acc + 4 * v, total);
     }
 }
+// Counts that are not a multiple of the vector width (the default 35 wavelengths, issue 18):
+// kM / 8 (or / 4) vector sums plus a scalar tail of kM % 8 (or % 4) sums in one pass over the
+// entries. One set of sums only: with kM >= 16 there are already >= 2 independent FMA chains an
+// entry, and four sets of 5+ vectors would spill the 16 (AVX2) registers.
+template <typename T, std::size_t kM>
+__attribute__((target("avx512f"))) void accumulateAvx512Tail(const uint32_t* columns,
+                                                             const float* values, uint64_t begin,
+                                                             uint64_t end, const T* radiosity,
+                                                             std::size_t, double* acc) {
+    constexpr std::size_t kV = kM / 8;
+    constexpr std::size_t kR = kM % 8;
+    __m512d sum[kV];
+    double tail[kR > 0 ? kR : 1];
+    for (std::size_t v = 0; v < kV; ++v)
+        sum[v] = _mm512_loadu_pd(acc + 8 * v);
+    for (std::size_t r = 0; r < kR; ++r)
+        tail[r] = acc[8 * kV + r];
+    for (uint64_t p = begin; p < end; ++p) {
+        const double fd = values[p];
+        const __m512d f = _mm512_set1_pd(fd);
+        const T* b = radiosity + std::size_t(columns[p]) * kM;
+        for (std::size_t v = 0; v < kV; ++v)
+            sum[v] = _mm512_fmadd_pd(f, load8(b + 8 * v), sum[v]);
+        for (std::size_t r = 0; r < kR; ++r)
+            tail[r] += fd * double(b[8 * kV + r]);
+    }
+    for (std::size_t v = 0; v < kV; ++v)
+        _mm512_storeu_pd(acc + 8 * v, sum[v]);
+    for (std::size_t r = 0; r < kR; ++r)
+        acc[8 * kV + r] = tail[r];
+}
+
+template <typename T, std::size_t kM>
+__attribute__((target("avx2,fma"))) void accumulateAvx2Tail(const uint32_t* columns,
+                                                            const float* values, uint64_t begin,
+                                                            uint64_t end, const T* radiosity,
+                                                            std::size_t, double* acc) {
+    constexpr std::size_t kV = kM / 4;
+    constexpr std::size_t kR = kM % 4;
+    __m256d sum[kV];
+    double tail[kR > 0 ? kR : 1];
+    for (std::size_t v = 0; v < kV; ++v)
+        sum[v] = _mm256_loadu_pd(acc + 4 * v);
+    for (std::size_t r = 0; r < kR; ++r)
+        tail[r] = acc[4 * kV + r];
+    for (uint64_t p = begin; p < end; ++p) {
+        const double fd = values[p];
+        const __m256d f = _mm256_set1_pd(fd);
+        const T* b = radiosity + std::size_t(columns[p]) * kM;
+        for (std::size_t v = 0; v < kV; ++v)
+            sum[v] = _mm256_fmadd_pd(f, load4(b + 4 * v), sum[v]);
+        for (std::size_t r = 0; r < kR; ++r)
+            tail[r] += fd * double(b[4 * kV + r]);
+    }
+    for (std::size_t v = 0; v < kV; ++v)
+        _mm256_storeu_pd(acc + 4 * v, sum[v]);
+    for (std::size_t r = 0; r < kR; ++r)
+        acc[4 * kV + r] = tail[r];
+}
+
 // Mixed precision (B read as float): the products are summed in float over runs of
 // kFloatRunEntries entries (four interleaved sums of 16), each run then added to the double
 // sums: one float FMA per 16 wavelengths and entry instead of two double FMAs and two
@@ -254,6 +314,13 @@ AccumulateFn<T> bestAccumulate() {
         if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
             return accumulateAvx2<T, kM>;
     }
+    if constexpr (kM >= 16 && kM % 8 != 0) {
+        if (__builtin_cpu_supports("avx512f")) return accumulateAvx512Tail<T, kM>;
+    }
+    if constexpr (kM >= 16 && kM % 4 != 0) {
+        if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+            return accumulateAvx2Tail<T, kM>;
+    }
 #endif
     return accumulateFixed<T, kM>;
 }
@@ -292,8 +359,20 @@ AccumulateFn<T> accumulateFor(std::size_t m) {
             return bestAccumulate<T, 20>();
         case 24:
             return bestAccumulate<T, 24>();
+        case 28:
+            return bestAccumulate<T, 28>();
+        case 31:
+            return bestAccumulate<T, 31>();
         case 32:
             return bestAccumulate<T, 32>();
+        case 35:  // the default `auto` wavelength set
+            return bestAccumulate<T, 35>();
+        case 36:
+            return bestAccumulate<T, 36>();
+        case 40:
+            return bestAccumulate<T, 40>();
+        case 48:
+            return bestAccumulate<T, 48>();
         default:
             return accumulateAny<T>;
     }

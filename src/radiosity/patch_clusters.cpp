@@ -1,5 +1,6 @@
 #include "radiosity/patch_clusters.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "radiosity/shaft.h"
@@ -7,11 +8,18 @@
 namespace daisy {
 namespace {
 
+double magnitude(const Vec3d& v) {
+    return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+}
+
 bool inPlane(const PatchMesh& mesh, uint32_t patch, const Vec3d& normal, double offset,
-             double tolerance) {
+             const Vec3d& anchor, double relativeTolerance) {
     if (dot(mesh.normals[patch], normal) < 1 - 1e-9) return false;
     for (uint32_t c : mesh.patches[patch]) {
-        if (std::fabs(dot(normal, mesh.positions[c]) - offset) > tolerance) return false;
+        const Vec3d& p = mesh.positions[c];
+        const double tolerance =
+            relativeTolerance * (length(p - anchor) + magnitude(p) + magnitude(anchor));
+        if (std::fabs(dot(normal, p) - offset) > tolerance) return false;
     }
     return true;
 }
@@ -89,7 +97,8 @@ void addSolidFace(const PatchMesh& mesh, uint32_t begin, uint32_t end, const Vec
 
 }  // namespace
 
-PatchClusters buildPatchClusters(const PatchMesh& mesh, double tolerance, uint32_t maxClusterSize) {
+PatchClusters buildPatchClusters(const PatchMesh& mesh, double relativeTolerance,
+                                 uint32_t maxClusterSize) {
     PatchClusters out;
     const auto n = static_cast<uint32_t>(mesh.patchCount());
     out.patchFace.assign(n, kNoFace);
@@ -97,9 +106,10 @@ PatchClusters buildPatchClusters(const PatchMesh& mesh, double tolerance, uint32
     while (runBegin < n) {
         // One coplanar run; faces take it whole, clusters cut it into pieces.
         const Vec3d normal = mesh.normals[runBegin];
-        const double offset = dot(normal, mesh.positions[mesh.patches[runBegin][0]]);
+        const Vec3d& anchor = mesh.positions[mesh.patches[runBegin][0]];
+        const double offset = dot(normal, anchor);
         uint32_t runEnd = runBegin + 1;
-        while (runEnd < n && inPlane(mesh, runEnd, normal, offset, tolerance))
+        while (runEnd < n && inPlane(mesh, runEnd, normal, offset, anchor, relativeTolerance))
             ++runEnd;
         addSolidFace(mesh, runBegin, runEnd, normal, offset, out);
         for (uint32_t begin = runBegin; begin < runEnd; begin += maxClusterSize) {

@@ -61,8 +61,10 @@ struct PatchClusters {
     }
 };
 
-// `tolerance` (scene units): how far a corner may lie off the plane and still count as in it.
-PatchClusters buildPatchClusters(const PatchMesh& mesh, double tolerance,
+// How far a corner may lie off a run's plane and still count as in it: `relativeTolerance`
+// times (its distance from the run's first corner plus its own coordinates' magnitude), i.e.
+// relative to the patches involved, never to the scene.
+PatchClusters buildPatchClusters(const PatchMesh& mesh, double relativeTolerance,
                                  uint32_t maxClusterSize = kMaxClusterSize);
 
 // True when every segment from a point of conv(p) to a point of conv(q) crosses the interior of

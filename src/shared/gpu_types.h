@@ -69,7 +69,7 @@ struct PairKernelParams {
     int level;  // quadrature level L
     int rays;  // K shadow segments per pair; 0 = no visibility (V = 1)
     uint seed;  // 32-bit seed of the per-pair sample sequence (rng.h pairSeed)
-    float clearance;  // shadow segments stop this far from their patches' planes, scene units
+    float clearance;  // relative end clearance of shadow segments (pairClearance, visibility.h)
     uint pad0;  // padding to a multiple of 8 bytes; must be ignored
 };
 

@@ -20,17 +20,18 @@ DAISY_SHARED_BEGIN
 // 0) times V_ij = pairVisibility of `rays` shadow segments seeded by pairSeed(i, j, seed)
 // (visibility.h; the cpu backend's segments). V = 1 when rays == 0; no rays are cast when the
 // unoccluded factor is 0 (facing-away pairs included). method is DAISY_METHOD_RIEMANN, _NUSSELT
-// or _HYBRID (stochastic has no pair kernel: 0). seed is the 32-bit seed, clearance the segments'
-// end clearance in scene units. fij * V is rounded once for power-of-two rays, as the cpu
-// driver's float(double(fij) * open / K).
+// or _HYBRID (stochastic has no pair kernel: 0). seed is the 32-bit seed; the segments' end
+// clearance is pairClearance(clearanceRelative, gi, gj) (visibility.h). fij * V is rounded once for
+// power-of-two rays, as the cpu driver's float(double(fij) * open / K).
 DAISY_HD PairFactors pairEntry(uint i, uint j, DAISY_IN(PatchGeometry) gi,
                                DAISY_IN(PatchGeometry) gj, int method, int level, int rays,
-                               uint seed, float clearance, BvhNodeBuffer nodes,
+                               uint seed, float clearanceRelative, BvhNodeBuffer nodes,
                                BvhTriangleBuffer triangles) {
     PairFactors f = pairFactors(method, level, gi, gj);
     f.fij = max(f.fij, 0.0f);
     f.fji = max(f.fji, 0.0f);
     if (rays > 0 && (f.fij > 0.0f || f.fji > 0.0f)) {
+        float clearance = pairClearance(clearanceRelative, gi, gj);
         float v = pairVisibility(pairSeed(i, j, seed), rays, gi, gj, clearance, nodes, triangles);
         f.fij = f.fij * v;
         f.fji = f.fji * v;

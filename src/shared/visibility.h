@@ -13,6 +13,19 @@
 
 DAISY_SHARED_BEGIN
 
+// A pair's end clearance (scene units): `relative` times the largest coordinate magnitude among
+// the two patches' corners, i.e. a fixed number of float roundings of where these two patches
+// are. Relative to the patches involved, never to the scene's size, so one far triangle cannot
+// make every segment empty (issue 18). The cpu backend's segments use the same function.
+DAISY_HD float pairClearance(float relative, DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j) {
+    vec3 c[6] = {i.a, i.b, i.c, j.a, j.b, j.c};
+    float m = 0.0f;
+    for (int k = 0; k < 6; ++k) {
+        m = max(m, max(max(abs(c[k].x), abs(c[k].y)), abs(c[k].z)));
+    }
+    return relative * m;
+}
+
 // Shadow segment k of `rays` of the pair (pairSeedValue = pairSeed(i, j, seed)): from the sample
 // point on i towards the one on j (visibilitySamplePair), trimmed at both ends to where it is
 // `clearance` (scene units) from that end's patch plane, so the two patches (and patches coplanar

@@ -1,5 +1,6 @@
 // The vulkan backend: uploads the patches and the flat BVH once, then for each batch of pairs
-// from buildFromPairBatches (backend/pair_batches.h) uploads the pairs, runs
+// the one driver sends through buildFromPairBatches (backend/pair_batches.h: only the pairs no
+// culling decided; clear-shaft pairs without rays) uploads the pairs, runs
 // shaders/form_factors.comp.glsl over them in dispatches short enough for a display watchdog, and
 // downloads the factors. Every buffer stays within the device's maxStorageBufferRange (128 MiB on
 // lavapipe): batches are sized to it, and a scene whose patch or BVH arrays exceed it is refused.
@@ -14,6 +15,7 @@
 #include "core/strings.h"
 #include "geometry/flat_bvh.h"
 #include "radiosity/form_factors_internal.h"
+#include "radiosity/pair_evaluator.h"
 #include "shared/config.h"
 #include "shared/gpu_types.h"
 #include "vulkan/buffers.h"
@@ -157,12 +159,12 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
     params.results = resultBuffer.address;
     params.method = detail::methodConstant(settings.method);
     params.level = settings.quadratureLevel;
-    params.rays = settings.raysPerPair;
     params.seed = detail::seed32(settings.seed);  // as the cpu and reference backends fold it
-    params.clearance = shadowClearance(mesh);
+    params.clearance = kEndClearanceRelative;
 
-    const PairEvaluator evaluate = [&](std::span<const PairIndex> pairs,
-                                       std::span<PairFactors> out) -> Expected<void> {
+    const PairKernelBatch evaluate = [&](std::span<const PairIndex> pairs, int rays,
+                                         std::span<PairFactors> out) -> Expected<void> {
+        params.rays = rays;
         upload(context_, pairBuffer, pairs.data(), pairs.size_bytes());
         for (std::size_t first = 0; first < pairs.size(); first += dispatchPairs) {
             params.pairOffset = uint32_t(first);

@@ -84,5 +84,22 @@ TEST(FormFactorsCli, UnwritableOutputFailsCleanly) {
     EXPECT_TRUE(std::filesystem::is_empty(dir));
 }
 
+// The cost model's choice is in --verbose (issue 18): its measured costs and what it culled or
+// traced, or, when the rays' cost was lost in timing noise, that it stayed off.
+TEST(FormFactorsCli, VerboseLogsTheCostModelsChoice) {
+    const auto dir = test::testTempDir();
+    const std::string scene = test::assetPath("scenes/formfactor_family/blacklight_small.gltf");
+    const RunResult run = runDaisy("formfactors " + scene + " -o " + (dir / "F.mtx").string() +
+                                   " --verbose --no-cache");
+    ASSERT_EQ(run.status, 0) << run.output;
+    const bool measured = run.output.find("  cost model: a ray ") != std::string::npos;
+    const bool fallback = run.output.find("  cost model off: culled all ") != std::string::npos;
+    EXPECT_TRUE(measured || fallback) << run.output;
+    if (measured) {
+        EXPECT_NE(run.output.find(" cluster pairs, traced "), std::string::npos) << run.output;
+        EXPECT_NE(run.output.find(" refinements"), std::string::npos) << run.output;
+    }
+}
+
 }  // namespace
 }  // namespace daisy

@@ -90,8 +90,18 @@ void BM_AccumulateDouble(benchmark::State& state) {
 void BM_AccumulateFloat(benchmark::State& state) {
     accumulateBench<float>(state);
 }
-BENCHMARK(BM_AccumulateDouble)->ArgName("m")->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_AccumulateFloat)->ArgName("m")->Arg(1)->Arg(16)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AccumulateDouble)
+    ->ArgName("m")
+    ->Arg(1)
+    ->Arg(16)
+    ->Arg(35)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_AccumulateFloat)
+    ->ArgName("m")
+    ->Arg(1)
+    ->Arg(16)
+    ->Arg(35)
+    ->Unit(benchmark::kMillisecond);
 
 void BM_RowSums(benchmark::State& state) {
     const SparseMatrix& f = cubeMatrix();

@@ -128,7 +128,8 @@ TEST(FormFactorCacheHash, Xxh64MatchesTheReferenceLibrary) {
 }
 
 // The key is the FNV-1a 128 of the byte stream docs/cache.md lists, checked against an
-// independent Python implementation of that list (struct.pack('<Q' / '<d') and the FNV loop).
+// independent Python implementation of that list (struct.pack('<Q' / '<d') and the FNV loop),
+// at format version 2.
 TEST(FormFactorCacheKey, MatchesTheDocumentedByteStream) {
     TriangleMesh mesh;
     mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
@@ -137,7 +138,7 @@ TEST(FormFactorCacheKey, MatchesTheDocumentedByteStream) {
     const PatchMesh patches = verify::patchesOf(mesh);
     FormFactorSettings k16;  // the Python oracle was computed with K = 16 (the default was then)
     k16.raysPerPair = 16;
-    EXPECT_EQ(formFactorKey(patches, k16, "cpu").hex(), "0db8a05b2514ddc297bc7bd552f5c60b");
+    EXPECT_EQ(formFactorKey(patches, k16, "cpu").hex(), "35746f336a047da20bfae6d952d8ae36");
     FormFactorSettings stochastic;
     stochastic.method = FormFactorMethod::Stochastic;
     stochastic.quadratureLevel = 2;
@@ -146,7 +147,7 @@ TEST(FormFactorCacheKey, MatchesTheDocumentedByteStream) {
     stochastic.shaftCulling = false;
     stochastic.stochasticRays = 512;
     EXPECT_EQ(formFactorKey(patches, stochastic, "kernel").hex(),
-              "0fecaff542181152b09e6db0efc87e32");
+              "5db0f1a7d79336cac346259bee706c51");
 }
 
 TEST(FormFactorCacheKey, ChangesWithEverythingFDependsOn) {
@@ -323,7 +324,9 @@ TEST_F(FormFactorCacheCorruption, WrongVersion) {
     std::string bytes = bytes_;
     put<uint32_t>(bytes, 8, kFormFactorCacheVersion + 1);
     reseal(bytes);
-    expectRejected(bytes, "format version 2, this build reads version 1");
+    expectRejected(bytes,
+                   "format version " + std::to_string(kFormFactorCacheVersion + 1) +
+                       ", this build reads version " + std::to_string(kFormFactorCacheVersion));
 }
 
 // An entry renamed (or copied) to another key's file name.

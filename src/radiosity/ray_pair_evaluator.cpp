@@ -1,0 +1,109 @@
+#include "radiosity/ray_pair_evaluator.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <vector>
+
+#include "radiosity/form_factors_internal.h"
+#include "radiosity/visibility_samples.h"
+#include "shared/formfactor.h"
+#include "shared/rng.h"
+#include "shared/visibility.h"
+
+namespace daisy {
+namespace {
+
+using shared::PairIndex;
+using shared::PatchGeometry;
+
+// Pairs one call takes: the driver's batches; each task traces at most kTaskSegments segments
+// at once (1.5 MB of scratch a thread), so a large --rays cannot make the scratch grow.
+constexpr std::size_t kBatchPairs = std::size_t(1) << 16;
+constexpr std::size_t kTaskSegments = std::size_t(1) << 16;
+
+struct Scratch {
+    SegmentArrays segments;
+    std::vector<uint8_t> blocked;
+};
+
+class RayPairEvaluator final : public PairEvaluator {
+public:
+    RayPairEvaluator(const PatchMesh& mesh, const FormFactorSettings& settings,
+                     const RayCaster& rays)
+        : geometry_(detail::kernelGeometry(mesh)),
+          rays_(rays),
+          method_(detail::methodConstant(settings.method)),
+          level_(settings.quadratureLevel),
+          seed_(detail::seed32(settings.seed)) {}
+
+    std::string name() const override { return "cpu"; }
+    std::size_t batchPairs() const override { return kBatchPairs; }
+
+    Expected<void> evaluate(std::span<const PairIndex> pairs, int rays,
+                            std::span<float> fij) override {
+        const std::size_t grain =
+            std::max<std::size_t>(1, kTaskSegments / std::size_t(std::max(rays, 1)));
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs.size(), std::min(grain, 256ul)),
+                          [&](const tbb::blocked_range<std::size_t>& range) {
+                              for (std::size_t k = range.begin(); k < range.end(); k += grain) {
+                                  const std::size_t end = std::min(range.end(), k + grain);
+                                  if (rays == 0) {
+                                      for (std::size_t p = k; p < end; ++p)
+                                          fij[p] = factor(pairs[p].i, pairs[p].j);
+                                  } else {
+                                      trace(pairs.subspan(k, end - k), rays, fij.subspan(k));
+                                  }
+                              }
+                          });
+        return {};
+    }
+
+private:
+    // Unoccluded F_ij (>= 0), from the shared kernel in the accurate direction.
+    float factor(uint32_t i, uint32_t j) const {
+        const float f = shared::pairFactors(method_, level_, geometry_[i], geometry_[j]).fij;
+        return f > 0.0f ? f : 0.0f;
+    }
+
+    void trace(std::span<const PairIndex> pairs, int k, std::span<float> fij) const {
+        Scratch& scratch = scratch_.local();
+        scratch.segments.resize(pairs.size() * std::size_t(k));
+        scratch.blocked.resize(scratch.segments.size());
+        for (std::size_t p = 0; p < pairs.size(); ++p) {
+            const PatchGeometry& gi = geometry_[pairs[p].i];
+            const PatchGeometry& gj = geometry_[pairs[p].j];
+            shadowSegments(shared::pairSeed(pairs[p].i, pairs[p].j, seed_), k, gi, gj,
+                           shared::pairClearance(kEndClearanceRelative, gi, gj), scratch.segments,
+                           p * std::size_t(k));
+        }
+        rays_.occluded(scratch.segments, scratch.blocked);
+        std::size_t s = 0;
+        for (std::size_t p = 0; p < pairs.size(); ++p) {
+            int open = 0;
+            for (int r = 0; r < k; ++r, ++s)
+                open += scratch.blocked[s] == 0 ? 1 : 0;
+            const float f = open > 0 ? factor(pairs[p].i, pairs[p].j) : 0.0f;
+            fij[p] = static_cast<float>(double(f) * double(open) / double(k));
+        }
+    }
+
+    std::vector<PatchGeometry> geometry_;
+    const RayCaster& rays_;
+    int method_;
+    int level_;
+    uint32_t seed_;
+    mutable tbb::enumerable_thread_specific<Scratch> scratch_;
+};
+
+}  // namespace
+
+std::unique_ptr<PairEvaluator> makeRayPairEvaluator(const PatchMesh& mesh,
+                                                    const FormFactorSettings& settings,
+                                                    const RayCaster& rays) {
+    return std::make_unique<RayPairEvaluator>(mesh, settings, rays);
+}
+
+}  // namespace daisy
