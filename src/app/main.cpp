@@ -62,6 +62,11 @@ int main(int argc, char** argv) {
             },
             "R,G,B"))
         ->capture_default_str();
+    renderCmd
+        ->add_option("--integrator", render.integrator,
+                     "radiosity, or path: the path-traced reference (no view factors)")
+        ->check(CLI::IsMember({"radiosity", "path"}))
+        ->capture_default_str();
 
     auto* solveCmd = app.add_subcommand("solve", "Solve spectral radiosity");
     addCommonOptions(*solveCmd, common);

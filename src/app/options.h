@@ -55,6 +55,9 @@ struct RenderOptions {
     std::string exposure = "auto";  // "auto" or a fixed EV
     bool spectralExr = false;  // .exr: one channel per wavelength sample (Fichet et al. 2021)
     std::string background = "0,0,0";  // R,G,B of missed rays, linear sRGB in [0, 1]
+    // radiosity (the solve, then the ray-cast image) | path (the independent path tracer,
+    // src/pathtrace/: no F, no solve)
+    std::string integrator = "radiosity";
 };
 
 struct ViewOptions {
