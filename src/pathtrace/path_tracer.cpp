@@ -100,22 +100,57 @@ Ray makeRay(const Vec3d& origin, const Vec3d& direction) {
     return ray;
 }
 
+// The response rows a path carries: row c of the throughput T weighs the radiance leaving the
+// current point at sample k by its contribution to the pixel's value c. Values are X, Y, Z
+// (rows = the set's XYZ weights), then, for spectral images, the m radiances (unit rows).
+// A surface multiplies T by its M on the right: T' = T M (the eye's value is a linear
+// function of the radiance at every sample, and fluorescence mixes the samples).
+struct Responses {
+    std::size_t rows = 0, m = 0;
+    std::vector<double> initial;  // rows x m
+    double initialTotal = 0;
+};
+
+Responses makeResponses(const WavelengthSet& set, bool spectral) {
+    Responses r;
+    r.m = set.size();
+    r.rows = 3 + (spectral ? r.m : 0);
+    r.initial.assign(r.rows * r.m, 0.0);
+    for (std::size_t k = 0; k < r.m; ++k) {
+        for (int c = 0; c < 3; ++c)
+            r.initial[std::size_t(c) * r.m + k] = set.xyzWeights(k)[std::size_t(c)];
+        if (spectral) r.initial[(3 + k) * r.m + k] = 1;
+    }
+    for (const double v : r.initial)
+        r.initialTotal += v;
+    return r;
+}
+
 struct Tracer {
     const PatchMesh& mesh;
     const RadiositySystem& system;
     const EmitterTable& emitters;
     const EmbreeRayCaster& caster;
+    const Responses& responses;
     double offset;  // origin offset along the normal, scene units
     int maxBounces;
 
-    // Adds the radiance of one camera ray (m values) to `radiance`; returns whether it hit.
-    // `weight` and `next` are scratch of m values. Counts rays in `rays`.
-    bool trace(const Ray& cameraRay, PathRandom& random, std::vector<double>& radiance,
+    // Sets `value` (responses.rows values: X Y Z [L_0 .. L_{m-1}]) to one camera ray's estimate;
+    // returns whether it hit. `weight` and `next` are scratch of rows x m. Counts rays in `rays`.
+    bool trace(const Ray& cameraRay, PathRandom& random, std::vector<double>& value,
                std::vector<double>& weight, std::vector<double>& next, SegmentArrays& segment,
                uint64_t& rays) const {
-        const std::size_t m = system.wavelengthCount;
-        std::fill(radiance.begin(), radiance.end(), 0.0);
-        std::fill(weight.begin(), weight.end(), 1.0);
+        const std::size_t m = system.wavelengthCount, rows = responses.rows;
+        std::fill(value.begin(), value.end(), 0.0);
+        weight = responses.initial;
+        const auto addEmission = [&](const std::vector<double>& t, const double* e, double scale) {
+            for (std::size_t c = 0; c < rows; ++c) {
+                double sum = 0;
+                for (std::size_t k = 0; k < m; ++k)
+                    sum += t[c * m + k] * e[k];
+                value[c] += sum * scale;
+            }
+        };
         Ray ray = cameraRay;
         SurfaceHit hit{};
         caster.closestSurfaceHits({&ray, 1}, {&hit, 1}, 0.0f);
@@ -126,23 +161,25 @@ struct Tracer {
             const Vec3d& n = mesh.normals[p];
             const Vec3d dir{ray.direction[0], ray.direction[1], ray.direction[2]};
             if (dot(dir, n) >= 0) break;  // the back of a one-sided surface: black
-            if (bounce == 0) {
-                const double* e = system.emissionRow(p);
-                for (std::size_t k = 0; k < m; ++k)
-                    radiance[k] += weight[k] * e[k] / kPi;
-            }
+            if (bounce == 0) addEmission(weight, system.emissionRow(p), 1 / kPi);
             const MaterialOperator& op = system.operators[system.patchOperator[p]];
             if (op.isZero) break;
             // next = weight * M: the throughput onto the irradiance at each sample.
             if (op.isDiagonal) {
-                for (std::size_t k = 0; k < m; ++k)
-                    next[k] = weight[k] * op.diagonal[k];
+                for (std::size_t c = 0; c < rows; ++c) {
+                    for (std::size_t k = 0; k < m; ++k)
+                        next[c * m + k] = weight[c * m + k] * op.diagonal[k];
+                }
             } else {
                 std::fill(next.begin(), next.end(), 0.0);
-                for (std::size_t o = 0; o < m; ++o) {
-                    if (weight[o] == 0) continue;
-                    for (std::size_t k = 0; k <= o; ++k)
-                        next[k] += weight[o] * op.matrix(o, k);
+                for (std::size_t c = 0; c < rows; ++c) {
+                    const double* t = weight.data() + c * m;
+                    double* out = next.data() + c * m;
+                    for (std::size_t o = 0; o < m; ++o) {
+                        if (t[o] == 0) continue;
+                        for (std::size_t k = 0; k <= o; ++k)  // M is lower triangular
+                            out[k] += t[o] * op.matrix(o, k);
+                    }
                 }
             }
             const auto& c = mesh.patches[p];
@@ -171,13 +208,11 @@ struct Tracer {
                         uint8_t blocked = 0;
                         caster.occluded(segment, {&blocked, 1});
                         ++rays;
+                        // E / pi * G / pdf_area, pdf_area = pick / area; then the 1 / pi of
+                        // the Lambertian reflection.
                         if (!blocked) {
-                            // E / pi * G / pdf_area, pdf_area = pick / area; then the 1 / pi
-                            // of the Lambertian reflection.
-                            const double g = cosX * cosY / r2 * mesh.areas[q] / pick / (kPi * kPi);
-                            const double* e = system.emissionRow(q);
-                            for (std::size_t k = 0; k < m; ++k)
-                                radiance[k] += next[k] * e[k] * g;
+                            addEmission(next, system.emissionRow(q),
+                                        cosX * cosY / r2 * mesh.areas[q] / pick / (kPi * kPi));
                         }
                     }
                 }
@@ -186,11 +221,14 @@ struct Tracer {
             if (bounce + 1 >= maxBounces) break;
             double survive = 1;
             if (bounce + 1 >= kRouletteStart) {
-                survive = std::min(1.0, *std::max_element(next.begin(), next.end()));
+                double total = 0;
+                for (const double v : next)
+                    total += v;
+                survive = std::min(1.0, total / responses.initialTotal);
                 if (survive <= 0 || random.next() >= survive) break;
             }
-            for (std::size_t k = 0; k < m; ++k)
-                weight[k] = next[k] / survive;
+            for (std::size_t i = 0; i < next.size(); ++i)
+                weight[i] = next[i] / survive;
             const double u1 = random.next(), u2 = random.next();
             ray = makeRay(x, cosineSampleHemisphere(n, u1, u2));
             caster.closestSurfaceHits({&ray, 1}, {&hit, 1}, 0.0f);
@@ -242,8 +280,14 @@ Expected<PathTraceResult> pathTrace(const Scene& scene, const WavelengthSet& set
     double extent = 0;
     for (const Vec3d& v : mesh->positions)
         extent = std::max({extent, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
-    const Tracer tracer{
-        *mesh, *system, emitters, **caster, 1e-5 * std::max(extent, 1e-3), settings.maxBounces};
+    const Responses responses = makeResponses(set, settings.spectral);
+    const Tracer tracer{*mesh,
+                        *system,
+                        emitters,
+                        **caster,
+                        responses,
+                        1e-5 * std::max(extent, 1e-3),
+                        settings.maxBounces};
 
     const std::size_t m = set.size();
     const int channels = int(m) * (settings.spectral ? 1 : 0) + 4;
@@ -260,7 +304,9 @@ Expected<PathTraceResult> pathTrace(const Scene& scene, const WavelengthSet& set
                       settings.showProgress && progressEnabledByDefault());
 
     const auto renderRows = [&](const tbb::blocked_range<int>& rows) {
-        std::vector<double> radiance(m), weight(m), next(m), sum(m);
+        const std::size_t rowsCarried = responses.rows;
+        std::vector<double> value(rowsCarried), weight(rowsCarried * m), next(rowsCarried * m);
+        std::vector<double> sum(rowsCarried);
         SegmentArrays segment;
         segment.resize(1);
         uint64_t rays = 0;
@@ -273,31 +319,27 @@ Expected<PathTraceResult> pathTrace(const Scene& scene, const WavelengthSet& set
                 const uint32_t pixel = uint32_t(y) * uint32_t(settings.width) + uint32_t(x);
                 const uint32_t pixelSeed = shared::pcgHash(imageSeed ^ shared::pcgHash(pixel));
                 std::fill(sum.begin(), sum.end(), 0.0);
-                double sumX = 0, sumY = 0, sumZ = 0, sumY2 = 0, hits = 0;
+                double sumY2 = 0, hits = 0;
                 for (int s = 0; s < n; ++s) {
                     PathRandom random{shared::pcgHash(pixelSeed + uint32_t(s) * 0x9e3779b9u)};
                     const double ju = random.next(), jv = random.next();
                     const auto [ox, oy] = stratumOffset(s, side, ju, jv);
                     const Ray ray =
                         primaryRay(camera, settings.width, settings.height, x + ox, y + oy);
-                    if (!tracer.trace(ray, random, radiance, weight, next, segment, rays)) continue;
+                    if (!tracer.trace(ray, random, value, weight, next, segment, rays)) continue;
                     hits += 1;
-                    const Xyz xyz = set.toXyz(radiance);
-                    sumX += xyz[0], sumY += xyz[1], sumZ += xyz[2], sumY2 += xyz[1] * xyz[1];
-                    if (settings.spectral) {
-                        for (std::size_t k = 0; k < m; ++k)
-                            sum[k] += radiance[k];
-                    }
+                    for (std::size_t c = 0; c < rowsCarried; ++c)
+                        sum[c] += value[c];
+                    sumY2 += value[1] * value[1];
                 }
+                // Responses are X Y Z [L...]; the image is [L...] X Y Z coverage.
                 float* out = result.image.at(x, y);
-                if (settings.spectral) {
-                    for (std::size_t k = 0; k < m; ++k)
-                        out[k] = static_cast<float>(sum[k] / n);
-                }
-                out[xyzChannel + 0] = static_cast<float>(sumX / n);
-                out[xyzChannel + 1] = static_cast<float>(sumY / n);
-                out[xyzChannel + 2] = static_cast<float>(sumZ / n);
+                for (std::size_t k = 3; k < rowsCarried; ++k)
+                    out[k - 3] = static_cast<float>(sum[k] / n);
+                for (int c = 0; c < 3; ++c)
+                    out[xyzChannel + c] = static_cast<float>(sum[std::size_t(c)] / n);
                 out[xyzChannel + 3] = static_cast<float>(hits / n);
+                const double sumY = sum[1];
                 // Misses are samples of value 0: the variance counts them.
                 const double mean = sumY / n;
                 const double sampleVariance =
