@@ -67,6 +67,17 @@ int main(int argc, char** argv) {
                      "radiosity, or path: the path-traced reference (no view factors)")
         ->check(CLI::IsMember({"radiosity", "path"}))
         ->capture_default_str();
+    renderCmd
+        ->add_option("--gather", render.gather,
+                     "Final gather: none (smooth vertex radiance) or direct (exact direct light "
+                     "per sample)")
+        ->check(CLI::IsMember({"none", "direct"}))
+        ->capture_default_str();
+    renderCmd
+        ->add_option("--gather-rays", render.gatherRays,
+                     "Shadow rays per light per sample of the direct gather")
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
 
     auto* solveCmd = app.add_subcommand("solve", "Solve spectral radiosity");
     addCommonOptions(*solveCmd, common);

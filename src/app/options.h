@@ -58,6 +58,10 @@ struct RenderOptions {
     // radiosity (the solve, then the ray-cast image) | path (the independent path tracer,
     // src/pathtrace/: no F, no solve)
     std::string integrator = "radiosity";
+    // none (the smooth vertex-radiance image, as the viewer shows it) | direct (plus per-sample
+    // direct light from the emitters: image/final_gather.h)
+    std::string gather = "none";
+    int gatherRays = 16;  // shadow segments per light per sample of the direct gather
 };
 
 struct ViewOptions {

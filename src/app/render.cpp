@@ -21,9 +21,11 @@
 #include "core/timer.h"
 #include "image/camera.h"
 #include "image/exposure.h"
+#include "image/final_gather.h"
 #include "image/image_io.h"
 #include "image/renderer.h"
 #include "pathtrace/path_tracer.h"
+#include "pipeline/vertex_radiance.h"
 
 namespace daisy::app {
 namespace {
@@ -261,9 +263,19 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
         return 2;
     }
 
-    // Shade: per-patch radiance -> per-corner values.
+    // Shade: per-patch radiance -> per-corner values; with --gather direct, without the
+    // emitters' direct light, which the final gather adds per sample (image/final_gather.h).
     Timer stage;
-    const std::vector<float> corners = session->cornerChannels(spectral);
+    const bool gatherDirect = render.gather == "direct";
+    const std::vector<float> corners = gatherDirect
+        ? cornerValues(
+              session->patches(),
+              radiosityChannels(session->wavelengths(),
+                                radiosityWithoutDirectLight(
+                                    session->system(), session->formFactors(), solved->radiosity),
+                                spectral),
+              channels)
+        : session->cornerChannels(spectral);
     const double shadeSeconds = stage.seconds();
 
     stage.restart();
@@ -275,6 +287,21 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
         return 1;
     }
     const double renderSeconds = stage.seconds();
+    stage.restart();
+    if (gatherDirect) {
+        DirectLightSettings direct;
+        direct.shadowRays = render.gatherRays;
+        direct.seed = static_cast<uint32_t>(options.seed);
+        auto lit = renderDirectLight(session->scene(), session->patches(), session->system(),
+                                     session->wavelengths(), camera, settings, direct, spectral);
+        if (!lit) {
+            logError(concat(options.scenePath, ": ", lit.error().message));
+            return 1;
+        }
+        for (std::size_t i = 0; i < rendered->pixels.size(); ++i)
+            rendered->pixels[i] += lit->pixels[i];
+    }
+    const double gatherSeconds = stage.seconds();
 
     // Exposure and the file.
     stage.restart();
@@ -290,15 +317,16 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     const SessionTimings& t = s.timings();
     const std::string exposureText = exposureSummary(format, *exposure, *scale);
     logInfo(concat("render: wrote ", render.outputPath, " (", width, " x ", height, ", ",
-                   render.samplesPerPixel, " spp, ", cameraName, ", ", exposureText,
-                   spectral ? concat(", ", m, " spectral channels") : "", ")"));
-    logInfo(concat("  time: load ", formatDuration(t.loadSeconds), ", mesh ",
-                   formatDuration(t.meshSeconds), ", view factors ",
-                   formatDuration(t.viewFactorSeconds),
-                   formFactors->fromCache ? " (from the cache)" : "", ", solve ",
-                   formatDuration(t.solveSeconds), ", shade ", formatDuration(shadeSeconds),
-                   ", render ", formatDuration(renderSeconds), ", write ",
-                   formatDuration(writeSeconds), "; total ", formatDuration(total.seconds())));
+                   render.samplesPerPixel, " spp, ", cameraName, ", gather ", render.gather, ", ",
+                   exposureText, spectral ? concat(", ", m, " spectral channels") : "", ")"));
+    logInfo(concat(
+        "  time: load ", formatDuration(t.loadSeconds), ", mesh ", formatDuration(t.meshSeconds),
+        ", view factors ", formatDuration(t.viewFactorSeconds),
+        formFactors->fromCache ? " (from the cache)" : "", ", solve ",
+        formatDuration(t.solveSeconds), ", shade ", formatDuration(shadeSeconds), ", render ",
+        formatDuration(renderSeconds),
+        gatherDirect ? concat(", final gather ", formatDuration(gatherSeconds)) : "", ", write ",
+        formatDuration(writeSeconds), "; total ", formatDuration(total.seconds())));
     logInfo(concat("  patches: ", formatCount(s.patches().patchCount()), " from ",
                    formatCount(s.scene().mesh.triangleCount()), " triangles (",
                    s.patchMaxEdge() == 0 ? std::string("input triangles")

@@ -1,0 +1,244 @@
+#include "image/final_gather.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "backend/embree_ray_caster.h"
+#include "core/check.h"
+#include "core/strings.h"
+#include "image/camera.h"
+#include "image/pixel_samples.h"
+#include "shared/formfactor.h"
+#include "shared/rng.h"
+#include "shared/sampling.h"
+
+namespace daisy {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+shared::vec3 toVec3(const Vec3d& v) {
+    return {float(v.x), float(v.y), float(v.z)};
+}
+
+bool emits(const RadiositySystem& system, uint32_t patch) {
+    const double* e = system.emissionRow(patch);
+    return std::any_of(e, e + system.wavelengthCount, [](double v) { return v > 0; });
+}
+
+// One emitting source triangle: its geometry and its emission E (m values).
+struct Light {
+    shared::PatchGeometry geometry;
+    const double* emission;
+};
+
+std::vector<Light> lightsOf(const Scene& scene, const PatchMesh& patches,
+                            const RadiositySystem& system) {
+    std::vector<Light> lights;
+    std::vector<bool> seen(scene.mesh.triangleCount(), false);
+    for (uint32_t p = 0; p < patches.patchCount(); ++p) {
+        const uint32_t t = patches.sourceTriangle[p];
+        if (seen[t] || !emits(system, p)) continue;
+        seen[t] = true;
+        lights.push_back({shared::makePatchGeometry(toVec3(scene.mesh.corner(t, 0)),
+                                                    toVec3(scene.mesh.corner(t, 1)),
+                                                    toVec3(scene.mesh.corner(t, 2))),
+                          system.emissionRow(p)});
+    }
+    return lights;
+}
+
+}  // namespace
+
+std::vector<double> radiosityWithoutDirectLight(const RadiositySystem& system,
+                                                const SparseMatrix& formFactors,
+                                                std::span<const double> radiosity) {
+    const std::size_t n = system.patchCount, m = system.wavelengthCount;
+    DAISY_CHECK(radiosity.size() == n * m && formFactors.size == n);
+    std::vector<bool> emitter(n);
+    for (uint32_t j = 0; j < n; ++j)
+        emitter[j] = emits(system, j);
+    std::vector<double> out(radiosity.begin(), radiosity.end());
+    std::vector<double> direct(m);
+    for (uint32_t i = 0; i < n; ++i) {
+        const MaterialOperator& op = system.operators[system.patchOperator[i]];
+        if (op.isZero) continue;
+        std::fill(direct.begin(), direct.end(), 0.0);
+        bool any = false;
+        const auto columns = formFactors.rowColumns(i);
+        const auto values = formFactors.rowValues(i);
+        for (std::size_t e = 0; e < columns.size(); ++e) {
+            if (!emitter[columns[e]]) continue;
+            any = true;
+            const double* ej = system.emissionRow(columns[e]);
+            for (std::size_t k = 0; k < m; ++k)
+                direct[k] += double(values[e]) * ej[k];
+        }
+        if (!any) continue;
+        for (std::size_t o = 0; o < m; ++o) {
+            double reflected = 0;
+            for (std::size_t k = 0; k < m; ++k)
+                reflected += op.matrix(o, k) * direct[k];
+            out[i * m + o] -= reflected;
+        }
+    }
+    return out;
+}
+
+std::vector<float> radiosityChannels(const WavelengthSet& set, std::span<const double> b,
+                                     bool spectral) {
+    const std::size_t m = set.size(), n = b.size() / m;
+    const std::size_t channels = (spectral ? m : 0) + 4;
+    std::vector<float> values(n * channels);
+    std::vector<double> radiance(m);
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t k = 0; k < m; ++k)
+            radiance[k] = b[i * m + k] / kPi;
+        float* out = values.data() + i * channels;
+        if (spectral) {
+            for (std::size_t k = 0; k < m; ++k)
+                *out++ = static_cast<float>(radiance[k]);
+        }
+        const Xyz xyz = set.toXyz(radiance);
+        *out++ = static_cast<float>(xyz[0]);
+        *out++ = static_cast<float>(xyz[1]);
+        *out++ = static_cast<float>(xyz[2]);
+        *out = 1.0f;
+    }
+    return values;
+}
+
+Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
+                                  const RadiositySystem& system, const WavelengthSet& set,
+                                  const Camera& camera, const RenderSettings& settings,
+                                  const DirectLightSettings& direct, bool spectral) {
+    if (settings.width <= 0 || settings.height <= 0 || settings.samplesPerPixel <= 0 ||
+        direct.shadowRays <= 0) {
+        return Error{concat("final gather: image size ", settings.width, " x ", settings.height,
+                            ", ", settings.samplesPerPixel, " samples per pixel and ",
+                            direct.shadowRays, " shadow rays must all be positive")};
+    }
+    if (auto ok = checkRayCamera(camera); !ok) return withContext(ok.error(), "final gather");
+    auto caster = EmbreeRayCaster::create(patches);
+    if (!caster) return withContext(caster.error(), "final gather");
+    const EmbreeRayCaster& tracer = **caster;
+    const std::vector<Light> lights = lightsOf(scene, patches, system);
+
+    const std::size_t m = set.size();
+    const int channels = int(spectral ? m : 0) + 4;
+    const int xyzChannel = spectral ? int(m) : 0;
+    Image image(settings.width, settings.height, channels);
+    if (lights.empty()) return image;
+    const int side = samplesPerSide(settings.samplesPerPixel);
+    const int samples = side * side;
+    const std::size_t rowSamples = std::size_t(settings.width) * samples;
+    const int k = direct.shadowRays;
+    const uint32_t imageSeed = shared::pcgHash(direct.seed ^ 0x2545f491u);
+
+    const auto renderRows = [&](const tbb::blocked_range<int>& rows) {
+        std::vector<Ray> rays(rowSamples);
+        std::vector<SurfaceHit> hits(rowSamples);
+        SegmentArrays segments;
+        segments.resize(lights.size() * std::size_t(k));
+        std::vector<uint8_t> blocked(segments.size());
+        std::vector<float> factor(lights.size());
+        std::vector<double> irradiance(m), reflected(m), sum(static_cast<std::size_t>(channels));
+        for (int y = rows.begin(); y != rows.end(); ++y) {
+            std::size_t r = 0;
+            for (int x = 0; x < settings.width; ++x) {
+                for (int s = 0; s < samples; ++s) {
+                    const auto [ox, oy] = stratumOffset(s, side);
+                    rays[r++] = primaryRay(camera, settings.width, settings.height, x + ox, y + oy);
+                }
+            }
+            tracer.closestSurfaceHits(rays, hits);
+            r = 0;
+            for (int x = 0; x < settings.width; ++x) {
+                std::fill(sum.begin(), sum.end(), 0.0);
+                for (int s = 0; s < samples; ++s, ++r) {
+                    const SurfaceHit& hit = hits[r];
+                    if (hit.patch == kNoPatch) continue;
+                    const uint32_t p = hit.patch;
+                    const MaterialOperator& op = system.operators[system.patchOperator[p]];
+                    const Vec3d& n = patches.normals[p];
+                    const Vec3d dir{rays[r].direction[0], rays[r].direction[1],
+                                    rays[r].direction[2]};
+                    if (op.isZero || dot(dir, n) >= 0) continue;  // black, or the back side
+                    const auto& c = patches.patches[p];
+                    const Vec3d px = patches.positions[c[0]] * (1.0 - hit.u - hit.v) +
+                        patches.positions[c[1]] * double(hit.u) +
+                        patches.positions[c[2]] * double(hit.v);
+                    const shared::vec3 xf = toVec3(px), nf = toVec3(n);
+                    // Unoccluded factors, then the shadow segments of the lights that have one.
+                    const uint32_t sampleSeed = shared::pcgHash(
+                        imageSeed ^
+                        shared::pcgHash(uint32_t(y) * uint32_t(settings.width) * uint32_t(samples) +
+                                        uint32_t(x * samples + s)));
+                    std::size_t used = 0;
+                    for (std::size_t l = 0; l < lights.size(); ++l) {
+                        factor[l] = shared::pointToTriangleFactor(xf, nf, lights[l].geometry);
+                        if (factor[l] <= 0) continue;
+                        const uint32_t seed = shared::streamSeed(sampleSeed, uint32_t(l));
+                        for (int q = 0; q < k; ++q) {
+                            const shared::vec3 e =
+                                shared::stratifiedPointOnTriangle(seed, q, k, lights[l].geometry);
+                            segments.set(used++, xf.x, xf.y, xf.z, e.x, e.y, e.z);
+                        }
+                    }
+                    if (used == 0) continue;
+                    // Unused tail segments are empty (never blocked) and ignored below.
+                    for (std::size_t u = used; u < segments.size(); ++u)
+                        segments.set(u, 0, 0, 0, 0, 0, 0);
+                    tracer.occluded(segments, blocked);
+                    std::fill(irradiance.begin(), irradiance.end(), 0.0);
+                    std::size_t at = 0;
+                    for (std::size_t l = 0; l < lights.size(); ++l) {
+                        if (factor[l] <= 0) continue;
+                        int open = 0;
+                        for (int q = 0; q < k; ++q)
+                            open += blocked[at++] ? 0 : 1;
+                        const double fv = double(factor[l]) * open / k;
+                        for (std::size_t w = 0; w < m; ++w)
+                            irradiance[w] += lights[l].emission[w] * fv;
+                    }
+                    for (std::size_t o = 0; o < m; ++o) {
+                        double v = 0;
+                        if (op.isDiagonal) {
+                            v = op.diagonal[o] * irradiance[o];
+                        } else {
+                            for (std::size_t w = 0; w <= o; ++w)
+                                v += op.matrix(o, w) * irradiance[w];
+                        }
+                        reflected[o] = v / kPi;
+                    }
+                    if (spectral) {
+                        for (std::size_t o = 0; o < m; ++o)
+                            sum[o] += reflected[o];
+                    }
+                    const Xyz xyz = set.toXyz(reflected);
+                    for (int a = 0; a < 3; ++a)
+                        sum[std::size_t(xyzChannel + a)] += xyz[std::size_t(a)];
+                }
+                float* out = image.at(x, y);
+                for (int ch = 0; ch < channels; ++ch)
+                    out[ch] = static_cast<float>(sum[std::size_t(ch)] / samples);
+            }
+        }
+    };
+    const tbb::blocked_range<int> allRows(0, settings.height, 1);
+    if (settings.threads > 0) {
+        tbb::task_arena arena(settings.threads);
+        arena.execute([&] { tbb::parallel_for(allRows, renderRows); });
+    } else {
+        tbb::parallel_for(allRows, renderRows);
+    }
+    return image;
+}
+
+}  // namespace daisy
