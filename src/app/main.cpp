@@ -117,6 +117,17 @@ int main(int argc, char** argv) {
     benchCmd->add_flag("--stress", bench.stress, "Run the numerical stress suite");
     benchCmd->add_flag("--quick", bench.quick, "Reduced sizes (what ctest runs)");
     benchCmd->add_option("-o,--output", bench.outputPath, "CSV of the results");
+    benchCmd
+        ->add_option("--reference", bench.reference,
+                     "What error is measured against: daisy (a converged fine solution) or path "
+                     "(the path-traced reference)")
+        ->check(CLI::IsMember({"daisy", "path"}))
+        ->capture_default_str();
+    benchCmd
+        ->add_option("--reference-spp", bench.referenceSpp,
+                     "Samples per pixel of the path-traced reference")
+        ->check(CLI::Range(1, 1 << 20))
+        ->capture_default_str();
 
     const std::string first = argc > 1 ? argv[1] : "";
     if (!first.empty() && first[0] != '-' &&

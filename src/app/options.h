@@ -86,6 +86,10 @@ struct BenchOptions {
     bool stress = false;  // the numerical stress suite instead of the time/error sweep
     bool quick = false;  // reduced sizes (what ctest runs)
     std::string outputPath;  // CSV
+    // daisy: against a converged high-setting daisy solution (bench_sweep.h); path: against
+    // the path-traced reference (bench_path.h)
+    std::string reference = "daisy";
+    int referenceSpp = 4096;  // samples per pixel of the path-traced reference
 };
 
 // Adds the scene argument and the common options to a subcommand.

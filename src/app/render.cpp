@@ -21,11 +21,10 @@
 #include "core/timer.h"
 #include "image/camera.h"
 #include "image/exposure.h"
-#include "image/final_gather.h"
 #include "image/image_io.h"
+#include "image/radiosity_image.h"
 #include "image/renderer.h"
 #include "pathtrace/path_tracer.h"
-#include "pipeline/vertex_radiance.h"
 
 namespace daisy::app {
 namespace {
@@ -263,48 +262,26 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
         return 2;
     }
 
-    // Shade: per-patch radiance -> per-corner values; with --gather direct, without the
-    // emitters' direct light, which the final gather adds per sample (image/final_gather.h).
-    Timer stage;
-    const bool gatherDirect = render.gather == "direct";
-    const std::vector<float> corners = gatherDirect
-        ? cornerValues(
-              session->patches(),
-              radiosityChannels(session->wavelengths(),
-                                radiosityWithoutDirectLight(
-                                    session->system(), session->formFactors(), solved->radiosity),
-                                spectral),
-              channels)
-        : session->cornerChannels(spectral);
-    const double shadeSeconds = stage.seconds();
-
-    stage.restart();
-    const std::vector<float> missValue(std::size_t(channels), 0.0f);
+    // Shade and ray cast (image/radiosity_image.h): the smooth per-corner radiance, or with
+    // --gather direct that without the emitters' direct light plus the light per sample.
+    const GatherMode gather = *parseGatherMode(render.gather);  // CLI11 checked it
+    DirectLightSettings direct;
+    direct.shadowRays = render.gatherRays;
+    direct.seed = static_cast<uint32_t>(options.seed);
+    RadiosityImageTimes imageTimes;
     auto rendered =
-        renderCornerValues(session->patches(), camera, settings, corners, channels, missValue);
+        renderRadiosityImage(*session, camera, settings, gather, direct, spectral, &imageTimes);
     if (!rendered) {
         logError(concat(options.scenePath, ": ", rendered.error().message));
         return 1;
     }
-    const double renderSeconds = stage.seconds();
-    stage.restart();
-    if (gatherDirect) {
-        DirectLightSettings direct;
-        direct.shadowRays = render.gatherRays;
-        direct.seed = static_cast<uint32_t>(options.seed);
-        auto lit = renderDirectLight(session->scene(), session->patches(), session->system(),
-                                     session->wavelengths(), camera, settings, direct, spectral);
-        if (!lit) {
-            logError(concat(options.scenePath, ": ", lit.error().message));
-            return 1;
-        }
-        for (std::size_t i = 0; i < rendered->pixels.size(); ++i)
-            rendered->pixels[i] += lit->pixels[i];
-    }
-    const double gatherSeconds = stage.seconds();
+    const bool gatherDirect = gather == GatherMode::Direct;
+    const double shadeSeconds = imageTimes.shadeSeconds;
+    const double renderSeconds = imageTimes.renderSeconds;
+    const double gatherSeconds = imageTimes.gatherSeconds;
 
     // Exposure and the file.
-    stage.restart();
+    const Timer stage;
     auto scale =
         writeRendered(render, *exposure, *background, *rendered, session->wavelengths(), spectral);
     if (!scale) {
