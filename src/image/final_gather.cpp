@@ -138,7 +138,8 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
     const int side = samplesPerSide(settings.samplesPerPixel);
     const int samples = side * side;
     const std::size_t rowSamples = std::size_t(settings.width) * samples;
-    const int k = direct.shadowRays;
+    // --gather-rays is per pixel: shared out over its samples, at least one each.
+    const int k = std::max(1, (direct.shadowRays + samples - 1) / samples);
     const uint32_t imageSeed = shared::pcgHash(direct.seed ^ 0x2545f491u);
 
     const auto renderRows = [&](const tbb::blocked_range<int>& rows) {

@@ -9,8 +9,9 @@
 //          + M_i H(x) / pi,   H(x) = sum_{lights l} E_l F(x -> l) V(x, l),
 // F(x -> l) the exact point-to-triangle factor of each emitting source triangle (Lambert's
 // contour formula, shared/formfactor.h, clipped to x's front half-space) and V the unblocked
-// fraction of `shadowRays` stratified segments from x to points on l. Deterministic: the points
-// come from a hash of (seed, pixel, sample, light), so the image has no noise from run to run.
+// fraction of stratified segments from x to points on l (DirectLightSettings). Deterministic: the
+// points come from a hash of (seed, pixel, sample, light), so the image has no noise from run to
+// run.
 #include <cstdint>
 #include <span>
 #include <string>
@@ -28,7 +29,9 @@
 namespace daisy {
 
 struct DirectLightSettings {
-    int shadowRays = 16;  // K stratified segments per light per sample
+    // K stratified segments per light per pixel, shared out over the pixel's samples
+    // (ceil(K / samples) each, at least 1)
+    int shadowRays = 16;
     uint32_t seed = 1;
 };
 
