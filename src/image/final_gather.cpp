@@ -32,10 +32,12 @@ bool emits(const RadiositySystem& system, uint32_t patch) {
     return std::any_of(e, e + system.wavelengthCount, [](double v) { return v > 0; });
 }
 
-// One emitting source triangle: its geometry and its emission E (m values).
+// One emitting source triangle: its geometry, its emission E (m values) and its power per unit
+// area, sum_k E_k w_k (W m^-2).
 struct Light {
     shared::PatchGeometry geometry;
     const double* emission;
+    double power;
 };
 
 std::vector<Light> lightsOf(const Scene& scene, const PatchMesh& patches,
@@ -49,9 +51,30 @@ std::vector<Light> lightsOf(const Scene& scene, const PatchMesh& patches,
         lights.push_back({shared::makePatchGeometry(toVec3(scene.mesh.corner(t, 0)),
                                                     toVec3(scene.mesh.corner(t, 1)),
                                                     toVec3(scene.mesh.corner(t, 2))),
-                          system.emissionRow(p)});
+                          system.emissionRow(p), 0.0});
+        for (std::size_t k = 0; k < system.wavelengthCount; ++k)
+            lights.back().power += system.emissionRow(p)[k] * system.binWidthsNm[k];
     }
     return lights;
+}
+
+// Point `index` of `count` stratified on the part of light triangle t in front of the plane
+// through x with normal n (the part F(x -> t) counts): the whole triangle when it lies in
+// front, else its clipped polygon (a triangle or a quad: two triangles chosen by area). Points
+// behind the plane would be shadowed by x's own surface and darken grazing receivers.
+shared::vec3 pointInFront(const shared::PatchGeometry& t, shared::vec3 x, shared::vec3 n,
+                          uint32_t seed, int index, int count) {
+    if (dot(n, t.a - x) >= 0 && dot(n, t.b - x) >= 0 && dot(n, t.c - x) >= 0)
+        return shared::stratifiedPointOnTriangle(seed, index, count, t);
+    const shared::ClippedPolygon poly = shared::clipTriangleToHalfSpace(t.a, t.b, t.c, x, n);
+    if (poly.count < 3) return shared::stratifiedPointOnTriangle(seed, index, count, t);
+    const shared::PatchGeometry first = shared::makePatchGeometry(poly.v[0], poly.v[1], poly.v[2]);
+    if (poly.count == 3 || !(first.area > 0))
+        return shared::stratifiedPointOnTriangle(seed, index, count, first);
+    const shared::PatchGeometry second = shared::makePatchGeometry(poly.v[0], poly.v[2], poly.v[3]);
+    const float share = first.area / (first.area + second.area);
+    const bool inFirst = shared::hashToUnitFloat(uint32_t(index), seed ^ 0x85ebca6bu) < share;
+    return shared::stratifiedPointOnTriangle(seed, index, count, inFirst ? first : second);
 }
 
 }  // namespace
@@ -138,7 +161,8 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
     const int side = samplesPerSide(settings.samplesPerPixel);
     const int samples = side * side;
     const std::size_t rowSamples = std::size_t(settings.width) * samples;
-    // --gather-rays is per pixel: shared out over its samples, at least one each.
+    // --gather-rays is per pixel: shared out over its samples, at least one each; each sample
+    // draws its segments over all lights.
     const int k = std::max(1, (direct.shadowRays + samples - 1) / samples);
     const uint32_t imageSeed = shared::pcgHash(direct.seed ^ 0x2545f491u);
 
@@ -146,9 +170,12 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
         std::vector<Ray> rays(rowSamples);
         std::vector<SurfaceHit> hits(rowSamples);
         SegmentArrays segments;
-        segments.resize(lights.size() * std::size_t(k));
+        segments.resize(std::size_t(k));
         std::vector<uint8_t> blocked(segments.size());
         std::vector<float> factor(lights.size());
+        std::vector<double> cdf(lights.size());
+        std::vector<int> picks(lights.size());
+        std::vector<uint32_t> chosen(static_cast<std::size_t>(k));
         std::vector<double> irradiance(m), reflected(m), sum(static_cast<std::size_t>(channels));
         for (int y = rows.begin(); y != rows.end(); ++y) {
             std::size_t r = 0;
@@ -176,37 +203,43 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                         patches.positions[c[1]] * double(hit.u) +
                         patches.positions[c[2]] * double(hit.v);
                     const shared::vec3 xf = toVec3(px), nf = toVec3(n);
-                    // Unoccluded factors, then the shadow segments of the lights that have one.
+                    // Unoccluded factors, weighted by each light's power: the distribution
+                    // the k shadow segments are drawn from (stratified over its CDF).
                     const uint32_t sampleSeed = shared::pcgHash(
                         imageSeed ^
                         shared::pcgHash(uint32_t(y) * uint32_t(settings.width) * uint32_t(samples) +
                                         uint32_t(x * samples + s)));
-                    std::size_t used = 0;
+                    double total = 0;
                     for (std::size_t l = 0; l < lights.size(); ++l) {
                         factor[l] = shared::pointToTriangleFactor(xf, nf, lights[l].geometry);
-                        if (factor[l] <= 0) continue;
-                        const uint32_t seed = shared::streamSeed(sampleSeed, uint32_t(l));
-                        for (int q = 0; q < k; ++q) {
-                            const shared::vec3 e =
-                                shared::stratifiedPointOnTriangle(seed, q, k, lights[l].geometry);
-                            segments.set(used++, xf.x, xf.y, xf.z, e.x, e.y, e.z);
-                        }
+                        total += factor[l] > 0 ? double(factor[l]) * lights[l].power : 0.0;
+                        cdf[l] = total;
                     }
-                    if (used == 0) continue;
-                    // Unused tail segments are empty (never blocked) and ignored below.
-                    for (std::size_t u = used; u < segments.size(); ++u)
-                        segments.set(u, 0, 0, 0, 0, 0, 0);
+                    if (total <= 0) continue;
+                    std::fill(picks.begin(), picks.end(), 0);
+                    for (int q = 0; q < k; ++q) {
+                        const double u =
+                            (q + double(shared::hashToUnitFloat(uint32_t(q), sampleSeed))) / k *
+                            total;
+                        const std::size_t l = std::min<std::size_t>(
+                            std::size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()),
+                            lights.size() - 1);
+                        chosen[std::size_t(q)] = uint32_t(l);
+                        const shared::vec3 e = pointInFront(
+                            lights[l].geometry, xf, nf, shared::streamSeed(sampleSeed, uint32_t(l)),
+                            picks[l]++, k);
+                        segments.set(std::size_t(q), xf.x, xf.y, xf.z, e.x, e.y, e.z);
+                    }
                     tracer.occluded(segments, blocked);
+                    // H = sum_l E_l F_l V_l, each segment an estimate of E_l F_l / p_l with
+                    // p_l = F_l P_l / total: E_l total / (P_l k) when open.
                     std::fill(irradiance.begin(), irradiance.end(), 0.0);
-                    std::size_t at = 0;
-                    for (std::size_t l = 0; l < lights.size(); ++l) {
-                        if (factor[l] <= 0) continue;
-                        int open = 0;
-                        for (int q = 0; q < k; ++q)
-                            open += blocked[at++] ? 0 : 1;
-                        const double fv = double(factor[l]) * open / k;
+                    for (int q = 0; q < k; ++q) {
+                        if (blocked[std::size_t(q)]) continue;
+                        const Light& light = lights[chosen[std::size_t(q)]];
+                        const double scale = total / (light.power * k);
                         for (std::size_t w = 0; w < m; ++w)
-                            irradiance[w] += lights[l].emission[w] * fv;
+                            irradiance[w] += light.emission[w] * scale;
                     }
                     for (std::size_t o = 0; o < m; ++o) {
                         double v = 0;

@@ -8,10 +8,13 @@
 //     L(x) = [E + M (G - D)]_i / pi smoothed over vertices (vertex_radiance.h)
 //          + M_i H(x) / pi,   H(x) = sum_{lights l} E_l F(x -> l) V(x, l),
 // F(x -> l) the exact point-to-triangle factor of each emitting source triangle (Lambert's
-// contour formula, shared/formfactor.h, clipped to x's front half-space) and V the unblocked
-// fraction of stratified segments from x to points on l (DirectLightSettings). Deterministic: the
-// points come from a hash of (seed, pixel, sample, light), so the image has no noise from run to
-// run.
+// contour formula, shared/formfactor.h, clipped to x's front half-space) and V(x, l) the
+// visibility, estimated by K shadow segments per sample drawn over the lights in proportion to
+// F(x -> l) times l's power (stratified over that distribution: a scene of two light triangles
+// gives each K / 2, a tube of 176 triangles spreads them by contribution) to stratified points
+// on the chosen triangle. Unbiased for sum E F V; exact where every segment is open. Deterministic:
+// the points come from a hash of (seed, pixel, sample, light), so the image has no noise from run
+// to run.
 #include <cstdint>
 #include <span>
 #include <string>
@@ -29,7 +32,7 @@
 namespace daisy {
 
 struct DirectLightSettings {
-    // K stratified segments per light per pixel, shared out over the pixel's samples
+    // K shadow segments per pixel over all lights, shared out over the pixel's samples
     // (ceil(K / samples) each, at least 1)
     int shadowRays = 16;
     uint32_t seed = 1;

@@ -45,6 +45,7 @@ struct EmitterTable {
     std::vector<uint32_t> patches;
     std::vector<double> cdf;  // normalised, last = 1
     std::vector<double> probability;  // per entry of `patches`
+    std::vector<double> patchProbability;  // per patch of the mesh: 0 for non-emitters
 
     uint32_t pick(double u, double& pdf) const {
         const auto it = std::upper_bound(cdf.begin(), cdf.end(), u);
@@ -76,6 +77,9 @@ EmitterTable emitterTable(const PatchMesh& mesh, const RadiositySystem& system) 
         table.probability.push_back(w / total);
     }
     if (!table.cdf.empty()) table.cdf.back() = 1.0;
+    table.patchProbability.assign(mesh.patchCount(), 0.0);
+    for (std::size_t k = 0; k < table.patches.size(); ++k)
+        table.patchProbability[table.patches[k]] = table.probability[k];
     return table;
 }
 
@@ -89,6 +93,12 @@ Vec3d cosineSampleHemisphere(const Vec3d& n, double u1, double u2) {
     const double phi = 2 * kPi * u2;
     const double z = std::sqrt(std::max(0.0, 1 - u1));
     return normalize(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * z);
+}
+
+// Veach's power heuristic (Veach & Guibas 1995, "Optimally Combining Sampling Techniques for
+// Monte Carlo Rendering"), one sample from each of the two techniques: a^2 / (a^2 + b^2).
+double powerHeuristic(double a, double b) {
+    return a * a / (a * a + b * b);
 }
 
 Ray makeRay(const Vec3d& origin, const Vec3d& direction) {
@@ -156,12 +166,22 @@ struct Tracer {
         caster.closestSurfaceHits({&ray, 1}, {&hit, 1}, 0.0f);
         ++rays;
         if (hit.patch == kNoPatch) return false;
+        double previousCos = 1;  // cos at the last vertex of the indirect ray's direction
         for (int bounce = 0;; ++bounce) {
             const uint32_t p = hit.patch;
             const Vec3d& n = mesh.normals[p];
             const Vec3d dir{ray.direction[0], ray.direction[1], ray.direction[2]};
             if (dot(dir, n) >= 0) break;  // the back of a one-sided surface: black
-            if (bounce == 0) addEmission(weight, system.emissionRow(p), 1 / kPi);
+            if (bounce == 0) {
+                addEmission(weight, system.emissionRow(p), 1 / kPi);
+            } else if (const double pick = emitters.patchProbability[p]; pick > 0) {
+                // The indirect ray found an emitter: its share against next-event estimation
+                // of the same point (solid-angle densities of both techniques).
+                const double cosY = -dot(dir, n);
+                const double lightPdf = pick / mesh.areas[p] * double(hit.t) * hit.t / cosY;
+                addEmission(weight, system.emissionRow(p),
+                            powerHeuristic(previousCos / kPi, lightPdf) / kPi);
+            }
             const MaterialOperator& op = system.operators[system.patchOperator[p]];
             if (op.isZero) break;
             // next = weight * M: the throughput onto the irradiance at each sample.
@@ -209,10 +229,13 @@ struct Tracer {
                         caster.occluded(segment, {&blocked, 1});
                         ++rays;
                         // E / pi * G / pdf_area, pdf_area = pick / area; then the 1 / pi of
-                        // the Lambertian reflection.
+                        // the Lambertian reflection; times its MIS weight against the indirect
+                        // ray (pdf cos_x / pi) finding the same point.
                         if (!blocked) {
+                            const double lightPdf = pick / mesh.areas[q] * r2 / cosY;
                             addEmission(next, system.emissionRow(q),
-                                        cosX * cosY / r2 * mesh.areas[q] / pick / (kPi * kPi));
+                                        cosX * cosY / r2 * mesh.areas[q] / pick / (kPi * kPi) *
+                                            powerHeuristic(lightPdf, cosX / kPi));
                         }
                     }
                 }
@@ -230,7 +253,9 @@ struct Tracer {
             for (std::size_t i = 0; i < next.size(); ++i)
                 weight[i] = next[i] / survive;
             const double u1 = random.next(), u2 = random.next();
-            ray = makeRay(x, cosineSampleHemisphere(n, u1, u2));
+            const Vec3d direction = cosineSampleHemisphere(n, u1, u2);
+            previousCos = dot(n, direction);
+            ray = makeRay(x, direction);
             caster.closestSurfaceHits({&ray, 1}, {&hit, 1}, 0.0f);
             ++rays;
             if (hit.patch == kNoPatch) break;

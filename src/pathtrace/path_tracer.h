@@ -10,11 +10,12 @@
 // Estimator (Kajiya 1986, the rendering equation, with next-event estimation): at each hit x,
 // L_o[o] = E[o] / pi + (1 / pi) sum_k M[o][k] H[k], H the irradiance; direct H from an emitter
 // point y sampled by power, E_y[k] / pi * cos_x cos_y / r^2 / pdf_area(y) behind a shadow ray;
-// indirect H by one cosine-weighted ray (pdf cos / pi, so H ~ pi L_in). Emission found by the
-// indirect rays is not added (the emitters' direct light is all sampled). Russian roulette after
-// three bounces. Pixel samples are stratified jittered (pixel_samples.h), box filter.
-// Randomness is counter-based on (seed, pixel, sample, dimension): deterministic in any thread
-// order.
+// indirect H by one cosine-weighted ray (pdf cos / pi, so H ~ pi L_in). An emitter both
+// techniques can reach is weighted by the power heuristic (multiple importance sampling, Veach &
+// Guibas 1995), which keeps receivers close to a light (r^2 -> 0) from firefly noise. Russian
+// roulette after three bounces. Pixel samples are stratified jittered (pixel_samples.h), box
+// filter. Randomness is counter-based on (seed, pixel, sample, dimension): deterministic in any
+// thread order.
 #include <cstdint>
 
 #include "core/cancel.h"
