@@ -77,6 +77,35 @@ shared::vec3 pointInFront(const shared::PatchGeometry& t, shared::vec3 x, shared
     return shared::stratifiedPointOnTriangle(seed, index, count, inFirst ? first : second);
 }
 
+// Fraction of a shadow segment left out at the light's end (Embree's own margin is 1e-5).
+constexpr float kLightClearance = 1e-3f;
+
+// Lights up to which every light's exact factor weighs every sample's shadow segments.
+constexpr std::size_t kExactLightLimit = 32;
+
+// A cheap stand-in for F(x -> t) that is > 0 wherever F is: the point-source factor
+// A cos_x cos_t / (pi (r^2 + A)) from t's centroid (r^2 + A keeps it finite near the light),
+// cos_x the largest over t's corners and centroid, plus a floor of 1e-3 of the cosine-free
+// term so a light seen only at grazing angles keeps a chance. 0 when x is behind t's plane or
+// all of t behind x's.
+float approximateFactor(const shared::PatchGeometry& t, shared::vec3 x, shared::vec3 n) {
+    const shared::vec3 centroid = (t.a + t.b + t.c) * (1.0f / 3.0f);
+    const shared::vec3 d = centroid - x;
+    const float r2 = dot(d, d);
+    const float facing = -dot(t.normal, d);
+    if (facing <= 0 || r2 <= 0) return 0;
+    float cosX = -1;
+    for (const shared::vec3 v : {t.a, t.b, t.c, centroid}) {
+        const shared::vec3 e = v - x;
+        const float l = length(e);
+        if (l > 0) cosX = std::max(cosX, dot(n, e) / l);
+    }
+    if (cosX <= 0) return 0;
+    const float cosT = facing / std::sqrt(r2);
+    const float base = t.area / (float(kPi) * (r2 + t.area));
+    return base * (cosX * cosT + 1e-3f);
+}
+
 }  // namespace
 
 std::vector<double> radiosityWithoutDirectLight(const RadiositySystem& system,
@@ -165,6 +194,9 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
     // draws its segments over all lights.
     const int k = std::max(1, (direct.shadowRays + samples - 1) / samples);
     const uint32_t imageSeed = shared::pcgHash(direct.seed ^ 0x2545f491u);
+    // Few lights: the exact factor of each, per sample. Many (a tube of 176 triangles): a cheap
+    // approximation picks the lights and only the picked ones get the exact factor.
+    const bool exactWeights = lights.size() <= kExactLightLimit;
 
     const auto renderRows = [&](const tbb::blocked_range<int>& rows) {
         std::vector<Ray> rays(rowSamples);
@@ -211,7 +243,9 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                                         uint32_t(x * samples + s)));
                     double total = 0;
                     for (std::size_t l = 0; l < lights.size(); ++l) {
-                        factor[l] = shared::pointToTriangleFactor(xf, nf, lights[l].geometry);
+                        factor[l] = exactWeights
+                            ? shared::pointToTriangleFactor(xf, nf, lights[l].geometry)
+                            : approximateFactor(lights[l].geometry, xf, nf);
                         total += factor[l] > 0 ? double(factor[l]) * lights[l].power : 0.0;
                         cdf[l] = total;
                     }
@@ -228,7 +262,10 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                         const shared::vec3 e = pointInFront(
                             lights[l].geometry, xf, nf, shared::streamSeed(sampleSeed, uint32_t(l)),
                             picks[l]++, k);
-                        segments.set(std::size_t(q), xf.x, xf.y, xf.z, e.x, e.y, e.z);
+                        // Stop short of the light by kLightClearance of the distance, so a
+                        // surface the light lies on (a lamp face on its stand) does not block.
+                        const shared::vec3 end = e + (xf - e) * kLightClearance;
+                        segments.set(std::size_t(q), xf.x, xf.y, xf.z, end.x, end.y, end.z);
                     }
                     tracer.occluded(segments, blocked);
                     // H = sum_l E_l F_l V_l, each segment an estimate of E_l F_l / p_l with
@@ -236,8 +273,15 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                     std::fill(irradiance.begin(), irradiance.end(), 0.0);
                     for (int q = 0; q < k; ++q) {
                         if (blocked[std::size_t(q)]) continue;
-                        const Light& light = lights[chosen[std::size_t(q)]];
-                        const double scale = total / (light.power * k);
+                        const uint32_t l = chosen[std::size_t(q)];
+                        const Light& light = lights[l];
+                        // With approximate weights, the chosen light's exact factor over its
+                        // weight (importance sampling); with exact ones that ratio is 1.
+                        const double ratio = exactWeights
+                            ? 1.0
+                            : double(shared::pointToTriangleFactor(xf, nf, light.geometry)) /
+                                double(factor[l]);
+                        const double scale = ratio * total / (light.power * k);
                         for (std::size_t w = 0; w < m; ++w)
                             irradiance[w] += light.emission[w] * scale;
                     }

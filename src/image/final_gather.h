@@ -12,7 +12,10 @@
 // visibility, estimated by K shadow segments per sample drawn over the lights in proportion to
 // F(x -> l) times l's power (stratified over that distribution: a scene of two light triangles
 // gives each K / 2, a tube of 176 triangles spreads them by contribution) to stratified points
-// on the chosen triangle. Unbiased for sum E F V; exact where every segment is open. Deterministic:
+// on the chosen triangle. Unbiased for sum E F V; exact where every segment is open. Over 32
+// light triangles the draw uses a cheap point-source stand-in for F and each drawn segment
+// carries its light's exact F over that stand-in (importance sampling; still unbiased, no
+// longer exact where unoccluded). Deterministic:
 // the points come from a hash of (seed, pixel, sample, light), so the image has no noise from run
 // to run.
 #include <cstdint>
