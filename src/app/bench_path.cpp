@@ -343,7 +343,7 @@ int runPathBench(const CommonOptions& options, const BenchOptions& bench) {
     chart.yLabel = "relative RMS luminance error (%)";
     chart.referenceY = 100 * kTargetError;
     chart.referenceLabel = "target 2%";
-    chart.seriesNames = {"path tracer", "radiosity, gather none", "radiosity, gather direct"};
+    chart.seriesNames = {"path tracer", "radiosity", "+ direct gather"};
     for (const Row& row : rows) {
         const int series = row.kind == "path"                      ? 0
             : row.label.find("gather direct") != std::string::npos ? 2

@@ -221,6 +221,15 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
             r = 0;
             for (int x = 0; x < settings.width; ++x) {
                 std::fill(sum.begin(), sum.end(), 0.0);
+                // The pixel's samples share one stratification of the light draw: pick q of
+                // sample s takes stratum permute(s k + q) of samples x k (a per-pixel random
+                // permutation, so each pick is marginally uniform: unbiased), and a light's
+                // points continue one stratified stream across the pixel.
+                const uint32_t pixelSeed = shared::pcgHash(
+                    imageSeed ^
+                    shared::pcgHash(uint32_t(y) * uint32_t(settings.width) + uint32_t(x)));
+                std::fill(picks.begin(), picks.end(), 0);
+                const int strata = samples * k;
                 for (int s = 0; s < samples; ++s, ++r) {
                     const SurfaceHit& hit = hits[r];
                     if (hit.patch == kNoPatch) continue;
@@ -250,18 +259,19 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                         cdf[l] = total;
                     }
                     if (total <= 0) continue;
-                    std::fill(picks.begin(), picks.end(), 0);
                     for (int q = 0; q < k; ++q) {
+                        const uint32_t stratum =
+                            shared::permuteIndex(uint32_t(s * k + q), uint32_t(strata), pixelSeed);
                         const double u =
-                            (q + double(shared::hashToUnitFloat(uint32_t(q), sampleSeed))) / k *
-                            total;
+                            (stratum + double(shared::hashToUnitFloat(uint32_t(q), sampleSeed))) /
+                            strata * total;
                         const std::size_t l = std::min<std::size_t>(
                             std::size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()),
                             lights.size() - 1);
                         chosen[std::size_t(q)] = uint32_t(l);
                         const shared::vec3 e = pointInFront(
-                            lights[l].geometry, xf, nf, shared::streamSeed(sampleSeed, uint32_t(l)),
-                            picks[l]++, k);
+                            lights[l].geometry, xf, nf, shared::streamSeed(pixelSeed, uint32_t(l)),
+                            picks[l]++, strata);
                         // Stop short of the light by kLightClearance of the distance, so a
                         // surface the light lies on (a lamp face on its stand) does not block.
                         const shared::vec3 end = e + (xf - e) * kLightClearance;
