@@ -60,7 +60,7 @@ struct RenderOptions {
     std::string integrator = "radiosity";
     // none (the smooth vertex-radiance image, as the viewer shows it) | direct (plus per-sample
     // direct light from the emitters: image/final_gather.h)
-    std::string gather = "none";
+    std::string gather = "direct";
     int gatherRays = 16;  // shadow segments per light per sample of the direct gather
 };
 
