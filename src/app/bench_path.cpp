@@ -6,7 +6,8 @@
 //   with its per-pixel variance and its own time.
 // - The path tracer's error-time curve: fresh runs (seed 7, independent of the reference) at
 //   1, 4, 16, 64 and 256 spp.
-// - The radiosity rows: the automatic patch size and two finer ones (edge / 1.5, / 2), each with
+// - The radiosity rows: the automatic patch size (or --subdivide; labelled "auto") and two finer
+//   ones (edge / 1.5, / 2), each with
 //   --gather none and --gather direct at 1 and 4 spp; a row's time is the whole pipeline
 //   (patches, F without the cache, solve, image).
 // Error (bench/image_error.h): relative RMS luminance with the reference's own noise taken out,
