@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "app/bench_path.h"
 #include "app/bench_sweep.h"
 #include "app/commands.h"
 #include "app/stress.h"
@@ -97,7 +98,8 @@ int runStress(const CommonOptions& options, const BenchOptions& bench) {
 }  // namespace
 
 int runBench(const CommonOptions& options, const BenchOptions& bench) {
-    return bench.stress ? runStress(options, bench) : runSweep(options, bench);
+    if (bench.stress) return runStress(options, bench);
+    return bench.reference == "path" ? runPathBench(options, bench) : runSweep(options, bench);
 }
 
 }  // namespace daisy::app

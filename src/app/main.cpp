@@ -62,6 +62,22 @@ int main(int argc, char** argv) {
             },
             "R,G,B"))
         ->capture_default_str();
+    renderCmd
+        ->add_option("--integrator", render.integrator,
+                     "radiosity, or path: the path-traced reference (no view factors)")
+        ->check(CLI::IsMember({"radiosity", "path"}))
+        ->capture_default_str();
+    renderCmd
+        ->add_option("--gather", render.gather,
+                     "Final gather: none (smooth vertex radiance) or direct (exact direct light "
+                     "per sample)")
+        ->check(CLI::IsMember({"none", "direct"}))
+        ->capture_default_str();
+    renderCmd
+        ->add_option("--gather-rays", render.gatherRays,
+                     "Shadow rays per light per sample of the direct gather")
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
 
     auto* solveCmd = app.add_subcommand("solve", "Solve spectral radiosity");
     addCommonOptions(*solveCmd, common);
@@ -127,6 +143,17 @@ int main(int argc, char** argv) {
     benchCmd->add_flag("--stress", bench.stress, "Run the numerical stress suite");
     benchCmd->add_flag("--quick", bench.quick, "Reduced sizes (what ctest runs)");
     benchCmd->add_option("-o,--output", bench.outputPath, "CSV of the results");
+    benchCmd
+        ->add_option("--reference", bench.reference,
+                     "What error is measured against: daisy (a converged fine solution) or path "
+                     "(the path-traced reference)")
+        ->check(CLI::IsMember({"daisy", "path"}))
+        ->capture_default_str();
+    benchCmd
+        ->add_option("--reference-spp", bench.referenceSpp,
+                     "Samples per pixel of the path-traced reference")
+        ->check(CLI::Range(1, 1 << 20))
+        ->capture_default_str();
 
     const std::string first = argc > 1 ? argv[1] : "";
     if (!first.empty() && first[0] != '-' &&

@@ -56,6 +56,13 @@ struct RenderOptions {
     std::string exposure = "auto";  // "auto" or a fixed EV
     bool spectralExr = false;  // .exr: one channel per wavelength sample (Fichet et al. 2021)
     std::string background = "0,0,0";  // R,G,B of missed rays, linear sRGB in [0, 1]
+    // radiosity (the solve, then the ray-cast image) | path (the independent path tracer,
+    // src/pathtrace/: no F, no solve)
+    std::string integrator = "radiosity";
+    // none (the smooth vertex-radiance image, as the viewer shows it) | direct (plus per-sample
+    // direct light from the emitters: image/final_gather.h)
+    std::string gather = "direct";
+    int gatherRays = 16;  // shadow segments per light per sample of the direct gather
 };
 
 struct ViewOptions {
@@ -89,6 +96,10 @@ struct BenchOptions {
     bool stress = false;  // the numerical stress suite instead of the time/error sweep
     bool quick = false;  // reduced sizes (what ctest runs)
     std::string outputPath;  // CSV
+    // daisy: against a converged high-setting daisy solution (bench_sweep.h); path: against
+    // the path-traced reference (bench_path.h)
+    std::string reference = "daisy";
+    int referenceSpp = 4096;  // samples per pixel of the path-traced reference
 };
 
 // Adds the scene argument and the common options to a subcommand.

@@ -22,8 +22,9 @@
 #include "image/camera.h"
 #include "image/exposure.h"
 #include "image/image_io.h"
+#include "image/radiosity_image.h"
 #include "image/renderer.h"
-#include "image/texture_detail.h"
+#include "pathtrace/path_tracer.h"
 
 namespace daisy::app {
 namespace {
@@ -82,6 +83,105 @@ std::string skippedSummary(const Session& session, const FormFactorReport& formF
         text += "; no UV samples (no UV-emitting light)";
     }
     return text;
+}
+
+// Exposure, the background and the file (PNG: exposed sRGB; EXR/PFM: linear radiance, plus
+// the wavelength channels for --spectral-exr). `rendered` has Session::patchChannels' layout.
+// Returns the exposure scale used.
+Expected<double> writeRendered(const RenderOptions& render, const Exposure& exposure,
+                               const std::array<double, 3>& background, const Image& rendered,
+                               const WavelengthSet& set, bool spectral) {
+    const ImageFormat format = formatOf(render.outputPath);
+    const int m = static_cast<int>(set.size());
+    const int xyzChannel = spectral ? m : 0;
+    const Image xyz = channelSlice(rendered, xyzChannel, 3);
+    const double scale = exposureScale(exposure, xyz);
+    Expected<void> written;
+    if (format == ImageFormat::Png) {
+        Image srgb = xyzToLinearSrgb(xyz, scale);
+        addBackground(srgb, rendered, xyzChannel + 3, background);
+        written = writePng(render.outputPath, srgb.width, srgb.height, toSrgb8(srgb));
+    } else {
+        // Float files are scene-referred: linear sRGB radiance, no exposure.
+        Image linear = xyzToLinearSrgb(xyz, 1.0);
+        addBackground(linear, rendered, xyzChannel + 3, background);
+        if (format == ImageFormat::Pfm) {
+            written = writePfm(render.outputPath, linear);
+        } else if (!spectral) {
+            linear.channelNames = {"R", "G", "B"};
+            written = writeExr(render.outputPath, linear);
+        } else {
+            Image all(linear.width, linear.height, 3 + m);
+            all.channelNames = {"R", "G", "B"};
+            for (int k = 0; k < m; ++k)
+                all.channelNames.push_back(spectralChannelName(set.wavelengthNm(k)));
+            for (std::size_t p = 0; p < std::size_t(all.width) * all.height; ++p) {
+                for (int c = 0; c < 3; ++c)
+                    all.pixels[p * all.channels + c] = linear.pixels[p * 3 + c];
+                for (int k = 0; k < m; ++k)
+                    all.pixels[p * all.channels + 3 + k] =
+                        rendered.pixels[p * rendered.channels + k];
+            }
+            written = writeExr(render.outputPath, all);
+        }
+    }
+    if (!written) return written.error();
+    return scale;
+}
+
+std::string exposureSummary(ImageFormat format, const Exposure& exposure, double scale) {
+    return format != ImageFormat::Png ? "linear, no exposure"
+                                      : concat(exposure.automatic ? "auto " : "", "exposure ",
+                                               formatNumber(std::log2(scale), 3), " EV");
+}
+
+// `--integrator path`: the path tracer (pathtrace/path_tracer.h) on the session's scene and
+// wavelength set, no view factors and no solve; then the same exposure and file as radiosity.
+int pathTracedRender(const CommonOptions& options, const RenderOptions& render,
+                     const Session& session, const Camera& camera, const RenderSettings& image,
+                     const std::string& cameraName, const Timer& total) {
+    auto exposure = parseExposure(render.exposure);  // checked by runRender
+    const auto background = parseBackground(render.background);
+    PathTraceSettings settings;
+    settings.width = image.width;
+    settings.height = image.height;
+    settings.samplesPerPixel = render.samplesPerPixel;
+    settings.seed = static_cast<uint32_t>(options.seed);
+    settings.threads = options.threads;
+    settings.spectral = render.spectralExr;
+    auto traced =
+        pathTrace(session.scene(), session.wavelengths(), camera, settings, &interruptToken());
+    if (!traced) {
+        logError(concat(options.scenePath, ": ", traced.error().message));
+        return 2;
+    }
+    if (traced->cancelled) {
+        logError(concat(options.scenePath, ": path trace cancelled; no image written"));
+        return 1;
+    }
+    Timer stage;
+    auto scale = writeRendered(render, *exposure, *background, traced->image, session.wavelengths(),
+                               render.spectralExr);
+    if (!scale) {
+        logError(scale.error().message);
+        return 1;
+    }
+    const double writeSeconds = stage.seconds();
+    logInfo(concat("render: wrote ", render.outputPath, " (", image.width, " x ", image.height,
+                   ", path traced, ", render.samplesPerPixel, " spp, ", cameraName, ", ",
+                   exposureSummary(formatOf(render.outputPath), *exposure, *scale), ")"));
+    logInfo(concat("  noise: relative RMS standard error of luminance ",
+                   formatNumber(100 * traced->relativeNoise, 3), "% (per-pixel variance of the ",
+                   "mean; a quarter of it needs 16x the samples)"));
+    logInfo(concat("  time: load ", formatDuration(session.timings().loadSeconds), ", path trace ",
+                   formatDuration(traced->seconds), " (", formatSi(double(traced->rays)), " rays, ",
+                   formatSi(double(traced->rays) / std::max(traced->seconds, 1e-9)),
+                   " rays/s), write ", formatDuration(writeSeconds), "; total ",
+                   formatDuration(total.seconds())));
+    logInfo(concat("  ", session.wavelengths().size(), " wavelengths (",
+                   session.wavelengths().name(),
+                   "); peak memory: ", formatBytes(double(peakResidentBytes()))));
+    return 0;
 }
 
 }  // namespace
@@ -146,6 +246,11 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
                         ", over --max-memory ", formatBytes(double(options.maxMemoryBytes))));
         return 2;
     }
+    const std::string cameraName =
+        framed ? "automatic framing" : concat("camera '", camera.name, "'");
+    if (render.integrator == "path") {
+        return pathTracedRender(options, render, *session, camera, settings, cameraName, total);
+    }
     auto formFactors = session->buildFormFactors(&interruptToken());
     if (!formFactors) {
         logError(formFactors.error().message);
@@ -157,83 +262,48 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
         return 2;
     }
 
-    // Shade: per-patch radiance -> per-corner values.
-    Timer stage;
-    const int xyzChannel = spectral ? m : 0;
-    const std::vector<float> corners = session->cornerChannels(spectral);
-    const double shadeSeconds = stage.seconds();
-
-    stage.restart();
-    const std::vector<float> missValue(std::size_t(channels), 0.0f);
-    // Texture detail and the back faces of double-sided surfaces (image/texture_detail.h).
-    const SurfaceDetail detail(session->scene(), session->patches(), session->appearance(),
-                               spectral ? std::size_t(m) : 0);
-    auto rendered = renderCornerValues(session->patches(), camera, settings, corners, channels,
-                                       missValue, detail.empty() ? nullptr : &detail);
+    // Shade and ray cast (image/radiosity_image.h): the smooth per-corner radiance, or with
+    // --gather direct that without the emitters' direct light plus the light per sample.
+    const GatherMode gather = *parseGatherMode(render.gather);  // CLI11 checked it
+    DirectLightSettings direct;
+    direct.shadowRays = render.gatherRays;
+    direct.seed = static_cast<uint32_t>(options.seed);
+    RadiosityImageTimes imageTimes;
+    auto rendered =
+        renderRadiosityImage(*session, camera, settings, gather, direct, spectral, &imageTimes);
     if (!rendered) {
         logError(concat(options.scenePath, ": ", rendered.error().message));
         return 1;
     }
-    const double renderSeconds = stage.seconds();
+    const bool gatherDirect = gather == GatherMode::Direct;
+    const double shadeSeconds = imageTimes.shadeSeconds;
+    const double renderSeconds = imageTimes.renderSeconds;
+    const double gatherSeconds = imageTimes.gatherSeconds;
 
     // Exposure and the file.
-    stage.restart();
-    const Image xyz = channelSlice(*rendered, xyzChannel, 3);
-    const double scale = exposureScale(*exposure, xyz);
-    Expected<void> written;
-    if (format == ImageFormat::Png) {
-        Image srgb = xyzToLinearSrgb(xyz, scale);
-        addBackground(srgb, *rendered, xyzChannel + 3, *background);
-        written = writePng(render.outputPath, srgb.width, srgb.height, toSrgb8(srgb));
-    } else {
-        // Float files are scene-referred: linear sRGB radiance, no exposure.
-        Image linear = xyzToLinearSrgb(xyz, 1.0);
-        addBackground(linear, *rendered, xyzChannel + 3, *background);
-        if (format == ImageFormat::Pfm) {
-            written = writePfm(render.outputPath, linear);
-        } else if (!spectral) {
-            linear.channelNames = {"R", "G", "B"};
-            written = writeExr(render.outputPath, linear);
-        } else {
-            Image all(linear.width, linear.height, 3 + m);
-            all.channelNames = {"R", "G", "B"};
-            for (int k = 0; k < m; ++k)
-                all.channelNames.push_back(
-                    spectralChannelName(session->wavelengths().wavelengthNm(k)));
-            for (std::size_t p = 0; p < std::size_t(all.width) * all.height; ++p) {
-                for (int c = 0; c < 3; ++c)
-                    all.pixels[p * all.channels + c] = linear.pixels[p * 3 + c];
-                for (int k = 0; k < m; ++k)
-                    all.pixels[p * all.channels + 3 + k] =
-                        rendered->pixels[p * rendered->channels + k];
-            }
-            written = writeExr(render.outputPath, all);
-        }
-    }
-    if (!written) {
-        logError(written.error().message);
+    const Timer stage;
+    auto scale =
+        writeRendered(render, *exposure, *background, *rendered, session->wavelengths(), spectral);
+    if (!scale) {
+        logError(scale.error().message);
         return 1;
     }
     const double writeSeconds = stage.seconds();
 
     const Session& s = *session;
     const SessionTimings& t = s.timings();
-    const std::string cameraName =
-        framed ? "automatic framing" : concat("camera '", camera.name, "'");
-    const std::string exposureText = format != ImageFormat::Png
-        ? "linear, no exposure"
-        : concat(exposure->automatic ? "auto " : "", "exposure ", formatNumber(std::log2(scale), 3),
-                 " EV");
+    const std::string exposureText = exposureSummary(format, *exposure, *scale);
     logInfo(concat("render: wrote ", render.outputPath, " (", width, " x ", height, ", ",
-                   render.samplesPerPixel, " spp, ", cameraName, ", ", exposureText,
-                   spectral ? concat(", ", m, " spectral channels") : "", ")"));
-    logInfo(concat("  time: load ", formatDuration(t.loadSeconds), ", mesh ",
-                   formatDuration(t.meshSeconds), ", view factors ",
-                   formatDuration(t.viewFactorSeconds),
-                   formFactors->fromCache ? " (from the cache)" : "", ", solve ",
-                   formatDuration(t.solveSeconds), ", shade ", formatDuration(shadeSeconds),
-                   ", render ", formatDuration(renderSeconds), ", write ",
-                   formatDuration(writeSeconds), "; total ", formatDuration(total.seconds())));
+                   render.samplesPerPixel, " spp, ", cameraName, ", gather ", render.gather, ", ",
+                   exposureText, spectral ? concat(", ", m, " spectral channels") : "", ")"));
+    logInfo(concat(
+        "  time: load ", formatDuration(t.loadSeconds), ", mesh ", formatDuration(t.meshSeconds),
+        ", view factors ", formatDuration(t.viewFactorSeconds),
+        formFactors->fromCache ? " (from the cache)" : "", ", solve ",
+        formatDuration(t.solveSeconds), ", shade ", formatDuration(shadeSeconds), ", render ",
+        formatDuration(renderSeconds),
+        gatherDirect ? concat(", final gather ", formatDuration(gatherSeconds)) : "", ", write ",
+        formatDuration(writeSeconds), "; total ", formatDuration(total.seconds())));
     logInfo(concat("  patches: ", formatCount(s.patches().patchCount()), " from ",
                    formatCount(s.scene().mesh.triangleCount()), " triangles (",
                    s.patchMaxEdge() == 0 ? std::string("input triangles")

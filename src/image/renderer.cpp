@@ -12,23 +12,9 @@
 #include "core/check.h"
 #include "core/strings.h"
 #include "image/camera.h"
+#include "image/pixel_samples.h"
 
 namespace daisy {
-
-namespace {
-
-// Well inside Embree's FLT_LARGE (1.844e18), and what scene/validate_scene.h allows for scenes.
-constexpr double kMaxRayOrigin = 1e17;
-
-// Samples per pixel side: N = ceil(sqrt(spp)), at least 1.
-int samplesPerSide(int samplesPerPixel) {
-    int n = 1;
-    while (n * n < samplesPerPixel)
-        ++n;
-    return n;
-}
-
-}  // namespace
 
 uint64_t renderImageBytes(const RenderSettings& settings, int channels) {
     return uint64_t(std::max(settings.width, 0)) * uint64_t(std::max(settings.height, 0)) *
@@ -52,15 +38,7 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                             channels, " channels needs about ", formatBytes(double(bytes)),
                             ", over --max-memory ", formatBytes(double(settings.maxMemoryBytes)))};
     }
-    // Embree asserts on rays it cannot represent (ray.valid(): |origin| under 1.8e18, finite
-    // direction); scenes are range-checked on load, but a camera may come from elsewhere.
-    if (!isFinite(camera.position) || !isFinite(camera.forward) || !isFinite(camera.up) ||
-        std::max({std::abs(camera.position.x), std::abs(camera.position.y),
-                  std::abs(camera.position.z)}) > kMaxRayOrigin) {
-        return Error{concat("render: camera '", camera.name, "' at ", camera.position,
-                            " is outside what float32 ray tracing represents (coordinates up to ",
-                            formatNumber(kMaxRayOrigin), ")")};
-    }
+    if (auto ok = checkRayCamera(camera); !ok) return withContext(ok.error(), "render");
     // Watertight (robust) intersection: no background between patches (issue 19).
     auto caster = EmbreeRayCaster::create(mesh, PacketMode::Packet16, /*robust=*/true);
     if (!caster) return withContext(caster.error(), "render");
@@ -83,8 +61,9 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
             for (int x = 0; x < settings.width; ++x) {
                 for (int j = 0; j < side; ++j) {
                     for (int i = 0; i < side; ++i) {
-                        rays[k++] = primaryRay(camera, settings.width, settings.height,
-                                               x + (i + 0.5) / side, y + (j + 0.5) / side);
+                        const auto [ox, oy] = stratumOffset(j * side + i, side);
+                        rays[k++] =
+                            primaryRay(camera, settings.width, settings.height, x + ox, y + oy);
                     }
                 }
             }

@@ -60,6 +60,41 @@ TEST(RenderCli, FurnaceBoxIsUniformAtTheExactRadiance) {
     EXPECT_NE(run.output.find("automatic --subdivide"), std::string::npos) << run.output;
 }
 
+// The same furnace through the final gather (every surface is a light: the direct part comes
+// out of B and back per sample) and through the path tracer (its mean within 2%: each pixel's
+// noise at 64 spp is a few percent).
+TEST(RenderCli, FurnaceBoxThroughTheGatherAndThePathTracer) {
+    const auto dir = test::testTempDir();
+    auto set = makeWavelengthSet(WavelengthSpec{});
+    ASSERT_TRUE(set);
+    const std::vector<double> radiance(set->size(), 2.0 / std::numbers::pi);
+    const Rgb expected = xyzToLinearSrgb(set->toXyz(radiance));
+    for (const std::string mode : {"--gather direct", "--integrator path --spp 64"}) {
+        const std::string out = (dir / "furnace.pfm").string();
+        const RunResult run =
+            runDaisy("render " + kFurnace + " -o " + out + " --width 16 --height 12 " + mode);
+        ASSERT_EQ(run.status, 0) << run.output;
+        auto image = readPfm(out);
+        ASSERT_TRUE(image) << image.error().message;
+        Rgb mean{0, 0, 0};
+        const double pixels = double(image->width) * image->height;
+        for (int y = 0; y < image->height; ++y) {
+            for (int x = 0; x < image->width; ++x) {
+                for (int c = 0; c < 3; ++c)
+                    mean[c] += image->at(x, y)[c] / pixels;
+            }
+        }
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(mean[c], expected[c], 0.02 * expected[c]) << mode;
+        if (mode.find("path") != std::string::npos) {
+            EXPECT_NE(run.output.find("path traced, 64 spp"), std::string::npos) << run.output;
+            EXPECT_NE(run.output.find("noise: relative RMS"), std::string::npos) << run.output;
+        } else {
+            EXPECT_NE(run.output.find("final gather"), std::string::npos) << run.output;
+        }
+    }
+}
+
 TEST(RenderCli, WritesPngExrAndSpectralExr) {
     const auto dir = test::testTempDir();
     const std::string base = "render " + kFurnace + " --width 16 --height 12 -q --subdivide 0.5";

@@ -137,3 +137,54 @@ TEST(ImageRenderer, RejectsAnEmptyImage) {
 
 }  // namespace
 }  // namespace daisy
+
+namespace daisy {
+namespace {
+
+// Supersampling positions (image/pixel_samples.h): a vertical edge at image position xEdge
+// (pixels) covers a pixel by the fraction of its N x N stratum centres left of the edge, which
+// is the analytic area fraction f rounded to a multiple of 1 / N: within 1 / (2N), and exactly
+// ceil(f N - 1/2) / N. Samples half a pixel off (the bug issue 16 reported) miss these by 1/2.
+TEST(ImageRenderer, EdgeCoverageIsTheAreaFraction) {
+    const Camera camera = originCamera();
+    const int width = 8, height = 8;
+    const double tanHalf = std::tan(0.5 * camera.yFovRad);
+    for (const int spp : {1, 4, 16, 64}) {
+        const int side = int(std::lround(std::sqrt(double(spp))));
+        for (const double xEdge : {3.5, 3.25, 4.75, 4.8, 2.1}) {
+            // The edge's point at depth 1 (z = -1): primaryRay's mapping, square image.
+            const double edge = (2 * xEdge / width - 1) * tanHalf;
+            TriangleMesh triangles;
+            verify::addQuad(triangles, {-10, -10, -1}, {edge, -10, -1}, {edge, 10, -1},
+                            {-10, 10, -1});
+            const PatchMesh mesh = verify::patchesOf(triangles);
+            const std::vector<float> corners(mesh.patchCount() * 3, 1.0f);
+            const float background = 0;
+            RenderSettings settings;
+            settings.width = width;
+            settings.height = height;
+            settings.samplesPerPixel = spp;
+            const auto image =
+                renderCornerValues(mesh, camera, settings, corners, 1, {&background, 1});
+            ASSERT_TRUE(image.ok()) << image.error().message;
+            const int pixel = int(std::floor(xEdge));
+            const double fraction = xEdge - pixel;
+            // Stratum centres (i + 0.5) / N left of the edge: i < f N - 1/2.
+            const double rounded = std::ceil(fraction * side - 0.5) / side;
+            for (int y = 0; y < height; ++y) {
+                EXPECT_EQ(image->at(pixel - 1, y)[0], 1.0f);
+                EXPECT_EQ(image->at(pixel + 1, y)[0], 0.0f);
+                EXPECT_NEAR(image->at(pixel, y)[0], fraction, 0.5 / side + 1e-6)
+                    << "spp " << spp << " edge " << xEdge;
+                const double atCentre = fraction * side - 0.5;  // an edge through a centre
+                if (std::abs(atCentre - std::round(atCentre)) > 1e-3) {
+                    EXPECT_NEAR(image->at(pixel, y)[0], rounded, 1e-6)
+                        << "spp " << spp << " edge " << xEdge;
+                }
+            }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace daisy

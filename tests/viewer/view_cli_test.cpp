@@ -88,7 +88,8 @@ TEST(ViewCli, ScreenshotMatchesRenderOfTheSameCamera) {
     const auto dir = test::testTempDir();
     const std::string viewPng = (dir / "view.png").string();
     const std::string renderPng = (dir / "render.png").string();
-    const RunResult rendered = test::runDaisy("render " + kScene + kSize + " -o " + renderPng);
+    const RunResult rendered =
+        test::runDaisy("render " + kScene + kSize + " --gather none -o " + renderPng);
     ASSERT_EQ(rendered.status, 0) << rendered.output;
     const RunResult viewed = runView(kScene + kSize + " --frames 3 --screenshot " + viewPng);
     DAISY_VIEW_OR_SKIP(viewed);

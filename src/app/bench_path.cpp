@@ -1,0 +1,379 @@
+// `daisy bench SCENE --reference path` (issue 16): run time against image error, measured
+// against the independent path tracer (pathtrace/path_tracer.h) instead of a finer daisy.
+//
+// - The reference: the path tracer at --reference-spp samples per pixel (seed 1) on the
+//   session's wavelength set, cached on disk (keyed by the scene file's bytes and the settings)
+//   with its per-pixel variance and its own time.
+// - The path tracer's error-time curve: fresh runs (seed 7, independent of the reference) at
+//   1, 4, 16, 64 and 256 spp.
+// - The radiosity rows: the automatic patch size (or --subdivide; labelled "auto") and two finer
+//   ones (edge / 1.5, / 2), each with
+//   --gather none and --gather direct at 1 and 4 spp; a row's time is the whole pipeline
+//   (patches, F without the cache, solve, image).
+// Error (bench/image_error.h): relative RMS luminance with the reference's own noise taken out,
+// and mean CIE76 / CIEDE2000 as displayed at the reference's exposure, emitter pixels and a
+// 2-pixel neighbourhood left out. Output: the CSV, a log-log chart of both curves, the reference
+// image and the error images of the default rows.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "app/bench_path.h"
+#include "app/session_options.h"
+#include "bench/chart.h"
+#include "bench/image_error.h"
+#include "core/atomic_file.h"
+#include "core/log.h"
+#include "core/strings.h"
+#include "core/timer.h"
+#include "image/camera.h"
+#include "image/exposure.h"
+#include "image/image_io.h"
+#include "image/radiosity_image.h"
+#include "pathtrace/path_tracer.h"
+
+namespace daisy::app {
+namespace {
+
+constexpr uint32_t kReferenceSeed = 1;
+constexpr uint32_t kCurveSeed = 7;
+constexpr double kTargetError = 0.02;  // the issue's 2% relative RMS luminance
+// The radiosity rows' images: final gather and samples per pixel.
+constexpr std::pair<GatherMode, int> kImageSettings[] = {
+    {GatherMode::None, 1}, {GatherMode::Direct, 1}, {GatherMode::None, 4}, {GatherMode::Direct, 4}};
+
+struct Reference {
+    Image xyz;  // 3 channels
+    Image varianceY;
+    double seconds = 0;
+    double noise = 0;  // relative RMS noise over the kept pixels
+};
+
+struct Row {
+    std::string kind;  // "path" | "radiosity"
+    std::string label;
+    double seconds = 0;
+    uint64_t patches = 0;
+    ImageError error;
+};
+
+Image xyzOf(const Image& channels, int xyzChannel) {
+    Image xyz(channels.width, channels.height, 3);
+    for (std::size_t p = 0; p < std::size_t(xyz.width) * xyz.height; ++p)
+        for (int c = 0; c < 3; ++c)
+            xyz.pixels[p * 3 + c] = channels.pixels[p * channels.channels + xyzChannel + c];
+    return xyz;
+}
+
+uint64_t referenceKey(const std::string& scenePath, const std::string& settings) {
+    uint64_t hash = 14695981039346656037ull;
+    const auto mix = [&](const std::string& bytes) {
+        for (unsigned char c : bytes)
+            hash = (hash ^ c) * 1099511628211ull;
+    };
+    std::ifstream file(scenePath, std::ios::binary);
+    mix(std::string(std::istreambuf_iterator<char>(file), {}));
+    mix(settings);
+    return hash;
+}
+
+constexpr char kMagic[8] = {'D', 'R', 'P', 'T', 'R', 'E', 'F', '1'};
+
+bool readReference(const std::string& path, uint64_t key, int width, int height, Reference& r) {
+    std::ifstream in(path, std::ios::binary);
+    char magic[8];
+    uint64_t stored = 0;
+    int32_t size[2];
+    if (!in.read(magic, 8) || !std::equal(magic, magic + 8, kMagic)) return false;
+    if (!in.read(reinterpret_cast<char*>(&stored), 8) || stored != key) return false;
+    if (!in.read(reinterpret_cast<char*>(size), 8) || size[0] != width || size[1] != height)
+        return false;
+    r.xyz = Image(width, height, 3);
+    r.varianceY = Image(width, height, 1);
+    in.read(reinterpret_cast<char*>(&r.seconds), 8);
+    in.read(reinterpret_cast<char*>(r.xyz.pixels.data()),
+            std::streamsize(r.xyz.pixels.size() * sizeof(float)));
+    in.read(reinterpret_cast<char*>(r.varianceY.pixels.data()),
+            std::streamsize(r.varianceY.pixels.size() * sizeof(float)));
+    return bool(in);
+}
+
+Expected<void> writeReference(const std::string& path, uint64_t key, const Reference& r) {
+    return writeFileAtomically(path, [&](std::FILE* out) {
+        const int32_t size[2] = {r.xyz.width, r.xyz.height};
+        std::fwrite(kMagic, 1, 8, out);
+        std::fwrite(&key, 8, 1, out);
+        std::fwrite(size, 4, 2, out);
+        std::fwrite(&r.seconds, 8, 1, out);
+        std::fwrite(r.xyz.pixels.data(), sizeof(float), r.xyz.pixels.size(), out);
+        std::fwrite(r.varianceY.pixels.data(), sizeof(float), r.varianceY.pixels.size(), out);
+        return std::string();
+    });
+}
+
+// Time the path tracer needs for `target`: log-log interpolation between the first row under
+// it and the one before; past the curve's end, extrapolated from its last row by the Monte
+// Carlo law error ~ 1 / sqrt(time) (`extrapolated` set). NAN without path rows.
+double pathTimeTo(const std::vector<Row>& rows, double target, bool& extrapolated) {
+    const Row* previous = nullptr;
+    extrapolated = false;
+    for (const Row& row : rows) {
+        if (row.kind != "path") continue;
+        const double e = row.error.relativeRmsYDenoised;
+        if (e <= target) {
+            if (!previous) return row.seconds;
+            const double e0 = previous->error.relativeRmsYDenoised;
+            const double t = std::log(e0 / target) / std::log(e0 / e);
+            return std::exp(std::log(previous->seconds) +
+                            t * (std::log(row.seconds) - std::log(previous->seconds)));
+        }
+        previous = &row;
+    }
+    if (!previous) return NAN;
+    extrapolated = true;
+    const double ratio = previous->error.relativeRmsYDenoised / target;
+    return previous->seconds * ratio * ratio;
+}
+
+std::string stemPath(const std::string& csvPath, const std::string& suffix) {
+    std::filesystem::path p(csvPath);
+    return (p.parent_path() / (p.stem().string() + suffix)).string();
+}
+
+}  // namespace
+
+int runPathBench(const CommonOptions& options, const BenchOptions& bench) {
+    if (options.scenePath.empty()) {
+        logError("daisy bench --reference path: give a SCENE");
+        return 2;
+    }
+    const int size = bench.quick ? 48 : 256;
+    SessionSettings base = sessionSettingsFrom(options, PatchSizeDefault::Automatic);
+    base.cacheDirectory.reset();  // every row builds its own F: honest times
+    base.logStages = false;
+    Camera camera;
+    const auto chooseCameraFor = [&](const Scene& scene) -> Expected<void> {
+        auto chosen = chooseCamera(scene, "", 1.0);
+        if (!chosen) return chosen.error();
+        camera = *chosen;
+        camera.aspectRatio = 0;
+        return {};
+    };
+    auto first = Session::open(base, chooseCameraFor);
+    if (!first) {
+        logError(first.error().message);
+        return 2;
+    }
+    const double autoEdge = first->patchMaxEdge();
+    auto mask = emitterMask(first->patches(), first->system(), camera, size, size);
+    if (!mask) {
+        logError(concat(options.scenePath, ": ", mask.error().message));
+        return 1;
+    }
+    const std::string stem = std::filesystem::path(options.scenePath).stem().string();
+    const std::string csvPath =
+        bench.outputPath.empty() ? concat("bench-path-", stem, ".csv") : bench.outputPath;
+    const std::string cachePath = options.cacheDir.empty()
+        ? stemPath(csvPath, ".path-reference.bin")
+        : (std::filesystem::path(options.cacheDir) / (stem + ".path-reference.bin")).string();
+
+    // The reference.
+    const int spp = bench.quick ? 64 : bench.referenceSpp;
+    const uint64_t key =
+        referenceKey(options.scenePath,
+                     concat(size, " ", spp, " ", kReferenceSeed, " ", first->wavelengths().name(),
+                            " ", first->wavelengths().size()));
+    Reference reference;
+    if (readReference(cachePath, key, size, size, reference)) {
+        logInfo(concat("bench: path-traced reference read from ", cachePath));
+    } else {
+        logInfo(concat("bench: path tracing the reference (", size, " x ", size, ", ", spp,
+                       " spp); cached in ", cachePath));
+        PathTraceSettings settings;
+        settings.width = settings.height = size;
+        settings.samplesPerPixel = spp;
+        settings.seed = kReferenceSeed;
+        settings.threads = options.threads;
+        auto traced = pathTrace(first->scene(), first->wavelengths(), camera, settings);
+        if (!traced) {
+            logError(concat(options.scenePath, ": ", traced.error().message));
+            return 2;
+        }
+        reference.xyz = xyzOf(traced->image, 0);
+        reference.varianceY = std::move(traced->varianceY);
+        reference.seconds = traced->seconds;
+        if (auto written = writeReference(cachePath, key, reference); !written)
+            logWarning(concat("bench: ", written.error().message));
+    }
+    {
+        Image withCoverage(size, size, 4);
+        for (std::size_t p = 0; p < std::size_t(size) * size; ++p) {
+            for (int c = 0; c < 3; ++c)
+                withCoverage.pixels[p * 4 + c] = reference.xyz.pixels[p * 3 + c];
+            withCoverage.pixels[p * 4 + 3] = 1;
+        }
+        reference.noise = relativeRmsNoise(withCoverage, 1, reference.varianceY, *mask);
+    }
+    const double exposure = autoExposureScale(reference.xyz);
+    logInfo(concat("bench: reference ", spp, " spp, ", formatNumber(reference.seconds, 3),
+                   " s, relative RMS noise ", formatNumber(100 * reference.noise, 3),
+                   "% (emitter pixels and 2 around them left out)"));
+
+    std::vector<Row> rows;
+    const auto report = [&](const Row& row) {
+        char line[256];
+        std::snprintf(line, sizeof line, "  %-9s %-26s %9.3f %8llu %9.2f%% %9.2f%% %8.3f %8.3f",
+                      row.kind.c_str(), row.label.c_str(), row.seconds,
+                      static_cast<unsigned long long>(row.patches),
+                      100 * row.error.relativeRmsYDenoised, 100 * row.error.relativeRmsY,
+                      row.error.meanDeltaE76, row.error.meanDeltaE2000);
+        logInfo(line);
+    };
+    logInfo(
+        "  kind      setting                       time s  patches  rms Y     rms Y raw  dE76     "
+        "dE00");
+
+    // The path tracer's own curve.
+    std::vector<int> curve =
+        bench.quick ? std::vector<int>{1, 4} : std::vector<int>{1, 4, 16, 64, 256};
+    for (const int n : curve) {
+        PathTraceSettings settings;
+        settings.width = settings.height = size;
+        settings.samplesPerPixel = n;
+        settings.seed = kCurveSeed;
+        settings.threads = options.threads;
+        settings.showProgress = false;
+        auto traced = pathTrace(first->scene(), first->wavelengths(), camera, settings);
+        if (!traced) {
+            logError(concat(options.scenePath, ": ", traced.error().message));
+            return 1;
+        }
+        Row row{"path", concat(n, " spp"), traced->seconds, 0, {}};
+        row.error =
+            compareImages(traced->image, reference.xyz, *mask, exposure, &reference.varianceY);
+        report(row);
+        rows.push_back(row);
+    }
+
+    // The radiosity rows.
+    RenderSettings image;
+    image.width = image.height = size;
+    image.threads = options.threads;
+    const std::vector<double> divisors =
+        bench.quick ? std::vector<double>{1} : std::vector<double>{1, 1.5, 2};
+    for (const double divisor : divisors) {
+        const Timer timer;
+        SessionSettings settings = base;
+        settings.subdivideMaxEdge = autoEdge / divisor;
+        auto session = Session::open(settings);
+        if (!session) {
+            logError(session.error().message);
+            return 1;
+        }
+        if (auto f = session->buildFormFactors(); !f) {
+            logError(f.error().message);
+            return 1;
+        }
+        if (auto solved = session->solve(); !solved) {
+            logError(solved.error().message);
+            return 1;
+        }
+        const double pipelineSeconds = timer.seconds();
+        for (const auto& [mode, samples] : kImageSettings) {
+            const Timer imageTimer;
+            DirectLightSettings direct;
+            direct.seed = static_cast<uint32_t>(options.seed);
+            image.samplesPerPixel = samples;
+            auto rendered = renderRadiosityImage(*session, camera, image, mode, direct, false);
+            if (!rendered) {
+                logError(concat(options.scenePath, ": ", rendered.error().message));
+                return 1;
+            }
+            Row row{"radiosity",
+                    concat(divisor == 1 ? std::string("auto") : concat("edge/", divisor),
+                           ", gather ", gatherModeName(mode), ", ", samples, " spp"),
+                    pipelineSeconds + imageTimer.seconds(),
+                    session->patches().patchCount(),
+                    {}};
+            row.error =
+                compareImages(*rendered, reference.xyz, *mask, exposure, &reference.varianceY);
+            report(row);
+            rows.push_back(row);
+            if (divisor == 1 && samples == 1) {
+                const std::string errorPath =
+                    stemPath(csvPath, concat(".error-gather-", gatherModeName(mode), ".png"));
+                const std::vector<uint8_t> pixels =
+                    errorImageRgb8(*rendered, reference.xyz, *mask, 0.1);
+                if (auto written = writePng(errorPath, size, size, pixels); !written)
+                    logWarning(written.error().message);
+            }
+        }
+    }
+
+    // Files: CSV, the reference image, the chart.
+    {
+        std::ofstream out(csvPath);
+        out << "# daisy bench " << options.scenePath << " --reference path --reference-spp " << spp
+            << (bench.quick ? " --quick" : "") << "; reference noise " << reference.noise << "\n";
+        out << "kind,setting,seconds,patches,rms_y,rms_y_raw,mean_de76,mean_de2000,p95_de2000\n";
+        for (const Row& row : rows) {
+            out << row.kind << ',' << '"' << row.label << '"' << ',' << row.seconds << ','
+                << row.patches << ',' << row.error.relativeRmsYDenoised << ','
+                << row.error.relativeRmsY << ',' << row.error.meanDeltaE76 << ','
+                << row.error.meanDeltaE2000 << ',' << row.error.p95DeltaE2000 << '\n';
+        }
+        if (!out) {
+            logError(concat(csvPath, ": write failed"));
+            return 1;
+        }
+    }
+    if (auto written = writePng(stemPath(csvPath, ".reference.png"), size, size,
+                                toSrgb8(xyzToLinearSrgb(reference.xyz, exposure)));
+        !written) {
+        logWarning(written.error().message);
+    }
+    ChartSpec chart;
+    chart.title = concat(stem, ": image error against time, against the path-traced reference");
+    chart.xLabel = "run time (s)";
+    chart.yLabel = "relative RMS luminance error (%)";
+    chart.referenceY = 100 * kTargetError;
+    chart.referenceLabel = "target 2%";
+    chart.seriesNames = {"path tracer", "radiosity", "+ direct gather"};
+    for (const Row& row : rows) {
+        const int series = row.kind == "path"                      ? 0
+            : row.label.find("gather direct") != std::string::npos ? 2
+                                                                   : 1;
+        chart.points.push_back(
+            {row.seconds, std::max(100 * row.error.relativeRmsYDenoised, 1e-3), series, row.label});
+    }
+    std::vector<ChartPoint> radiosityPoints;
+    std::vector<int> radiosityIndex;
+    for (std::size_t i = 0; i < chart.points.size(); ++i) {
+        if (chart.points[i].series == 0) continue;
+        radiosityPoints.push_back(chart.points[i]);
+        radiosityIndex.push_back(int(i));
+    }
+    for (const int i : paretoFront(radiosityPoints))
+        chart.front.push_back(radiosityIndex[std::size_t(i)]);
+    const Rgb8Image plot = drawLogLogChart(chart);
+    if (auto written = writePng(stemPath(csvPath, ".png"), plot.width, plot.height, plot.pixels);
+        !written) {
+        logWarning(written.error().message);
+    }
+
+    bool extrapolated = false;
+    const double pathTo2 = pathTimeTo(rows, kTargetError, extrapolated);
+    logInfo(concat("bench: wrote ", csvPath, "; the path tracer reaches ",
+                   formatNumber(100 * kTargetError), "% in ", formatNumber(pathTo2, 3), " s",
+                   extrapolated ? " (extrapolated from its last row as 1 / sqrt(time))" : "",
+                   "; 1/20 of that is ", formatNumber(pathTo2 / 20, 3), " s"));
+    return 0;
+}
+
+}  // namespace daisy::app

@@ -1,0 +1,66 @@
+#pragma once
+// Final gathering at render time (issue 16): the light the emitters put directly on each pixel's
+// surface point is computed per sample, exactly, instead of being read from the patches' smooth
+// radiosity, so shadows and penumbrae are as sharp as the geometry makes them.
+//
+// Split of the solved radiosity (DESIGN.md section 2): B_i = E_i + M_i G_i with G_i = sum_j F_ij
+// B_j, and the direct part of G_i is D_i = sum_{j emitting} F_ij E_j. The image is
+//     L(x) = [E + M (G - D)]_i / pi smoothed over vertices (vertex_radiance.h)
+//          + M_i H(x) / pi,   H(x) = sum_{lights l} E_l F(x -> l) V(x, l),
+// F(x -> l) the exact point-to-triangle factor of each emitting source triangle (Lambert's
+// contour formula, shared/formfactor.h, clipped to x's front half-space) and V(x, l) the
+// visibility, estimated by K shadow segments per sample drawn over the lights in proportion to
+// F(x -> l) times l's power (stratified over that distribution: a scene of two light triangles
+// gives each K / 2, a tube of 176 triangles spreads them by contribution) to stratified points
+// on the chosen triangle. Unbiased for sum E F V; exact where every segment is open. Over 32
+// light triangles the draw uses a cheap point-source stand-in for F and each drawn segment
+// carries its light's exact F over that stand-in (importance sampling; still unbiased, no
+// longer exact where unoccluded). Deterministic:
+// the points come from a hash of (seed, pixel, sample, light), so the image has no noise from run
+// to run.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/expected.h"
+#include "geometry/patch_mesh.h"
+#include "image/image.h"
+#include "image/renderer.h"
+#include "radiosity/radiosity_system.h"
+#include "radiosity/sparse_matrix.h"
+#include "scene/scene.h"
+#include "spectral/wavelength_set.h"
+
+namespace daisy {
+
+struct DirectLightSettings {
+    // K shadow segments per pixel over all lights, shared out over the pixel's samples
+    // (ceil(K / samples) each, at least 1)
+    int shadowRays = 16;
+    uint32_t seed = 1;
+};
+
+// B with the emitters' direct contribution removed: E_i + M_i (G_i - D_i) = B_i - M_i D_i
+// (n x m, row-major, the system's layout), from the solved radiosity and F.
+std::vector<double> radiosityWithoutDirectLight(const RadiositySystem& system,
+                                                const SparseMatrix& formFactors,
+                                                std::span<const double> radiosity);
+
+// Per-patch display channels of radiosity `b` (n x m): [L_0 .. L_{m-1} when spectral] X Y Z 1
+// with L = b / pi, the layout of Session::patchChannels.
+std::vector<float> radiosityChannels(const WavelengthSet& set, std::span<const double> b,
+                                     bool spectral);
+
+// The direct term M_i H(x) / pi per pixel, on the renderer's sample positions (stratum centres,
+// image/pixel_samples.h) and box filter, in the channels of radiosityChannels (coverage 0).
+// Lights are the emitting triangles of scene.mesh. Fails (no crash) on what renderCornerValues
+// refuses. `shader` (renderCornerValues's) moves hits to back patches and puts the texture
+// detail on each sample's direct light.
+Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
+                                  const RadiositySystem& system, const WavelengthSet& set,
+                                  const Camera& camera, const RenderSettings& settings,
+                                  const DirectLightSettings& direct, bool spectral,
+                                  const SampleShader* shader = nullptr);
+
+}  // namespace daisy

@@ -1,0 +1,35 @@
+#pragma once
+// The radiosity image of a solved session (docs/rendering.md): the smooth per-corner radiance
+// ray cast per sample (renderer.h), or, with the direct final gather (final_gather.h), the
+// corners without the emitters' direct light plus that light computed per sample. One function
+// for `daisy render` and `daisy bench`, so both measure the same image.
+#include <string>
+
+#include "core/expected.h"
+#include "image/final_gather.h"
+#include "image/renderer.h"
+#include "pipeline/session.h"
+
+namespace daisy {
+
+enum class GatherMode { None, Direct };
+
+// "none" | "direct"; an error naming the value otherwise.
+Expected<GatherMode> parseGatherMode(const std::string& text);
+const char* gatherModeName(GatherMode mode);
+
+struct RadiosityImageTimes {
+    double shadeSeconds = 0;  // per-patch channels and vertex smoothing
+    double renderSeconds = 0;  // the ray-cast image
+    double gatherSeconds = 0;  // the direct final gather (0 without)
+};
+
+// Channels as Session::patchChannels ([L...] X Y Z coverage). Precondition: the session has F
+// when mode is Direct (the direct part is taken out of B through F). Uses the session's solution
+// (B = E without one).
+Expected<Image> renderRadiosityImage(const Session& session, const Camera& camera,
+                                     const RenderSettings& settings, GatherMode mode,
+                                     const DirectLightSettings& direct, bool spectral,
+                                     RadiosityImageTimes* times = nullptr);
+
+}  // namespace daisy

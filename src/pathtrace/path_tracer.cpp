@@ -1,0 +1,394 @@
+#include "pathtrace/path_tracer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "backend/embree_ray_caster.h"
+#include "core/check.h"
+#include "core/progress.h"
+#include "core/strings.h"
+#include "core/timer.h"
+#include "geometry/patch_mesh.h"
+#include "image/camera.h"
+#include "image/pixel_samples.h"
+#include "radiosity/radiosity_system.h"
+#include "shared/rng.h"
+
+namespace daisy {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr int kRouletteStart = 3;  // bounces before Russian roulette may end a path
+
+// Counter-based uniform numbers for one path: dimension d of the path's stream.
+struct PathRandom {
+    uint32_t seed;
+    uint32_t dimension = 0;
+    double next() {
+        const uint32_t a = shared::pcgHash(seed ^ shared::pcgHash(dimension++));
+        const uint32_t b = shared::pcgHash(a + 0x68e31da4u);
+        // 53 bits would be wasted on float geometry; 32 + 21 bits keep the result < 1.
+        return (double(a) + double(b >> 11) / 2097152.0) / 4294967296.0;
+    }
+};
+
+// The emitters' front sides as a discrete distribution over patches by emitted power.
+struct EmitterTable {
+    std::vector<uint32_t> patches;
+    std::vector<double> cdf;  // normalised, last = 1
+    std::vector<double> probability;  // per entry of `patches`
+    std::vector<double> patchProbability;  // per patch of the mesh: 0 for non-emitters
+
+    uint32_t pick(double u, double& pdf) const {
+        const auto it = std::upper_bound(cdf.begin(), cdf.end(), u);
+        const std::size_t k = std::min<std::size_t>(std::size_t(it - cdf.begin()), cdf.size() - 1);
+        pdf = probability[k];
+        return patches[k];
+    }
+};
+
+EmitterTable emitterTable(const PatchMesh& mesh, const RadiositySystem& system) {
+    EmitterTable table;
+    double total = 0;
+    std::vector<double> power;
+    for (uint32_t p = 0; p < mesh.patchCount(); ++p) {
+        const double* e = system.emissionRow(p);
+        double w = 0;
+        for (std::size_t k = 0; k < system.wavelengthCount; ++k)
+            w += e[k] * system.binWidthsNm[k];
+        if (w > 0 && mesh.areas[p] > 0) {
+            table.patches.push_back(p);
+            power.push_back(w * mesh.areas[p]);
+            total += w * mesh.areas[p];
+        }
+    }
+    double running = 0;
+    for (const double w : power) {
+        running += w;
+        table.cdf.push_back(running / total);
+        table.probability.push_back(w / total);
+    }
+    if (!table.cdf.empty()) table.cdf.back() = 1.0;
+    table.patchProbability.assign(mesh.patchCount(), 0.0);
+    for (std::size_t k = 0; k < table.patches.size(); ++k)
+        table.patchProbability[table.patches[k]] = table.probability[k];
+    return table;
+}
+
+// A direction with pdf cos(theta) / pi about unit normal n (Malley's method: a uniform point
+// on the unit disk lifted to the hemisphere).
+Vec3d cosineSampleHemisphere(const Vec3d& n, double u1, double u2) {
+    const Vec3d helper = std::abs(n.x) > 0.5 ? Vec3d{0, 1, 0} : Vec3d{1, 0, 0};
+    const Vec3d t = normalize(cross(helper, n));
+    const Vec3d b = cross(n, t);
+    const double r = std::sqrt(u1);
+    const double phi = 2 * kPi * u2;
+    const double z = std::sqrt(std::max(0.0, 1 - u1));
+    return normalize(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * z);
+}
+
+// Veach's power heuristic (Veach & Guibas 1995, "Optimally Combining Sampling Techniques for
+// Monte Carlo Rendering"), one sample from each of the two techniques: a^2 / (a^2 + b^2).
+double powerHeuristic(double a, double b) {
+    return a * a / (a * a + b * b);
+}
+
+Ray makeRay(const Vec3d& origin, const Vec3d& direction) {
+    Ray ray;
+    for (int axis = 0; axis < 3; ++axis) {
+        ray.origin[axis] = static_cast<float>(origin[axis]);
+        ray.direction[axis] = static_cast<float>(direction[axis]);
+    }
+    return ray;
+}
+
+// The response rows a path carries: row c of the throughput T weighs the radiance leaving the
+// current point at sample k by its contribution to the pixel's value c. Values are X, Y, Z
+// (rows = the set's XYZ weights), then, for spectral images, the m radiances (unit rows).
+// A surface multiplies T by its M on the right: T' = T M (the eye's value is a linear
+// function of the radiance at every sample, and fluorescence mixes the samples).
+struct Responses {
+    std::size_t rows = 0, m = 0;
+    std::vector<double> initial;  // rows x m
+    double initialTotal = 0;
+};
+
+Responses makeResponses(const WavelengthSet& set, bool spectral) {
+    Responses r;
+    r.m = set.size();
+    r.rows = 3 + (spectral ? r.m : 0);
+    r.initial.assign(r.rows * r.m, 0.0);
+    for (std::size_t k = 0; k < r.m; ++k) {
+        for (int c = 0; c < 3; ++c)
+            r.initial[std::size_t(c) * r.m + k] = set.xyzWeights(k)[std::size_t(c)];
+        if (spectral) r.initial[(3 + k) * r.m + k] = 1;
+    }
+    for (const double v : r.initial)
+        r.initialTotal += v;
+    return r;
+}
+
+struct Tracer {
+    const PatchMesh& mesh;
+    const RadiositySystem& system;
+    const EmitterTable& emitters;
+    const EmbreeRayCaster& caster;
+    const Responses& responses;
+    double offset;  // origin offset along the normal, scene units
+    int maxBounces;
+
+    // Sets `value` (responses.rows values: X Y Z [L_0 .. L_{m-1}]) to one camera ray's estimate;
+    // returns whether it hit. `weight` and `next` are scratch of rows x m. Counts rays in `rays`.
+    bool trace(const Ray& cameraRay, PathRandom& random, std::vector<double>& value,
+               std::vector<double>& weight, std::vector<double>& next, SegmentArrays& segment,
+               uint64_t& rays) const {
+        const std::size_t m = system.wavelengthCount, rows = responses.rows;
+        std::fill(value.begin(), value.end(), 0.0);
+        weight = responses.initial;
+        const auto addEmission = [&](const std::vector<double>& t, const double* e, double scale) {
+            for (std::size_t c = 0; c < rows; ++c) {
+                double sum = 0;
+                for (std::size_t k = 0; k < m; ++k)
+                    sum += t[c * m + k] * e[k];
+                value[c] += sum * scale;
+            }
+        };
+        Ray ray = cameraRay;
+        SurfaceHit hit{};
+        caster.closestSurfaceHits({&ray, 1}, {&hit, 1}, 0.0f);
+        ++rays;
+        if (hit.patch == kNoPatch) return false;
+        double previousCos = 1;  // cos at the last vertex of the indirect ray's direction
+        for (int bounce = 0;; ++bounce) {
+            const uint32_t p = hit.patch;
+            const Vec3d& n = mesh.normals[p];
+            const Vec3d dir{ray.direction[0], ray.direction[1], ray.direction[2]};
+            if (dot(dir, n) >= 0) break;  // the back of a one-sided surface: black
+            if (bounce == 0) {
+                addEmission(weight, system.emissionRow(p), 1 / kPi);
+            } else if (const double pick = emitters.patchProbability[p]; pick > 0) {
+                // The indirect ray found an emitter: its share against next-event estimation
+                // of the same point (solid-angle densities of both techniques).
+                const double cosY = -dot(dir, n);
+                const double lightPdf = pick / mesh.areas[p] * double(hit.t) * hit.t / cosY;
+                addEmission(weight, system.emissionRow(p),
+                            powerHeuristic(previousCos / kPi, lightPdf) / kPi);
+            }
+            const MaterialOperator& op = system.operators[system.patchOperator[p]];
+            if (op.isZero) break;
+            // next = weight * M: the throughput onto the irradiance at each sample.
+            if (op.isDiagonal) {
+                for (std::size_t c = 0; c < rows; ++c) {
+                    for (std::size_t k = 0; k < m; ++k)
+                        next[c * m + k] = weight[c * m + k] * op.diagonal[k];
+                }
+            } else {
+                std::fill(next.begin(), next.end(), 0.0);
+                for (std::size_t c = 0; c < rows; ++c) {
+                    const double* t = weight.data() + c * m;
+                    double* out = next.data() + c * m;
+                    for (std::size_t o = 0; o < m; ++o) {
+                        if (t[o] == 0) continue;
+                        for (std::size_t k = 0; k <= o; ++k)  // M is lower triangular
+                            out[k] += t[o] * op.matrix(o, k);
+                    }
+                }
+            }
+            const auto& c = mesh.patches[p];
+            const double w1 = hit.u, w2 = hit.v, w0 = 1 - w1 - w2;
+            const Vec3d x = mesh.positions[c[0]] * w0 + mesh.positions[c[1]] * w1 +
+                mesh.positions[c[2]] * w2 + n * offset;
+
+            // Direct light: one emitter point by power.
+            if (!emitters.patches.empty()) {
+                double pick = 0;
+                const uint32_t q = emitters.pick(random.next(), pick);
+                const auto& lc = mesh.patches[q];
+                double a = random.next(), b = random.next();
+                if (a + b > 1) a = 1 - a, b = 1 - b;
+                const Vec3d& nq = mesh.normals[q];
+                const Vec3d y = mesh.positions[lc[0]] * (1 - a - b) + mesh.positions[lc[1]] * a +
+                    mesh.positions[lc[2]] * b + nq * offset;
+                const Vec3d d = y - x;
+                const double r2 = dot(d, d);
+                if (r2 > 0) {
+                    const Vec3d u = d / std::sqrt(r2);
+                    const double cosX = dot(n, u), cosY = -dot(nq, u);
+                    if (cosX > 0 && cosY > 0 && q != p) {
+                        segment.set(0, float(x.x), float(x.y), float(x.z), float(y.x), float(y.y),
+                                    float(y.z));
+                        uint8_t blocked = 0;
+                        caster.occluded(segment, {&blocked, 1});
+                        ++rays;
+                        // E / pi * G / pdf_area, pdf_area = pick / area; then the 1 / pi of
+                        // the Lambertian reflection; times its MIS weight against the indirect
+                        // ray (pdf cos_x / pi) finding the same point.
+                        if (!blocked) {
+                            const double lightPdf = pick / mesh.areas[q] * r2 / cosY;
+                            addEmission(next, system.emissionRow(q),
+                                        cosX * cosY / r2 * mesh.areas[q] / pick / (kPi * kPi) *
+                                            powerHeuristic(lightPdf, cosX / kPi));
+                        }
+                    }
+                }
+            }
+
+            if (bounce + 1 >= maxBounces) break;
+            double survive = 1;
+            if (bounce + 1 >= kRouletteStart) {
+                double total = 0;
+                for (const double v : next)
+                    total += v;
+                survive = std::min(1.0, total / responses.initialTotal);
+                if (survive <= 0 || random.next() >= survive) break;
+            }
+            for (std::size_t i = 0; i < next.size(); ++i)
+                weight[i] = next[i] / survive;
+            const double u1 = random.next(), u2 = random.next();
+            const Vec3d direction = cosineSampleHemisphere(n, u1, u2);
+            previousCos = dot(n, direction);
+            ray = makeRay(x, direction);
+            caster.closestSurfaceHits({&ray, 1}, {&hit, 1}, 0.0f);
+            ++rays;
+            if (hit.patch == kNoPatch) break;
+        }
+        return true;
+    }
+};
+
+}  // namespace
+
+double relativeRmsNoise(const Image& image, int yChannel, const Image& varianceY,
+                        const std::vector<uint8_t>& mask) {
+    double sumVariance = 0, sumY = 0;
+    std::size_t count = 0;
+    const std::size_t pixels = std::size_t(image.width) * image.height;
+    for (std::size_t i = 0; i < pixels; ++i) {
+        const bool use =
+            mask.empty() ? image.pixels[i * image.channels + yChannel + 2] > 0 : mask[i] != 0;
+        if (!use) continue;
+        sumVariance += varianceY.pixels[i];
+        sumY += image.pixels[i * image.channels + yChannel];
+        ++count;
+    }
+    if (count == 0 || sumY <= 0) return 0;
+    return std::sqrt(sumVariance / double(count)) / (sumY / double(count));
+}
+
+Expected<PathTraceResult> pathTrace(const Scene& scene, const WavelengthSet& set,
+                                    const Camera& camera, const PathTraceSettings& settings,
+                                    const CancelToken* cancel) {
+    const Timer timer;
+    if (settings.width <= 0 || settings.height <= 0 || settings.samplesPerPixel <= 0 ||
+        settings.maxBounces <= 0) {
+        return Error{concat("path trace: image size ", settings.width, " x ", settings.height, ", ",
+                            settings.samplesPerPixel, " samples per pixel and ",
+                            settings.maxBounces, " bounces must all be positive")};
+    }
+    if (auto ok = checkRayCamera(camera); !ok) return withContext(ok.error(), "path trace");
+    auto mesh = buildPatchMesh(scene.mesh, 0);
+    if (!mesh) return withContext(mesh.error(), "path trace");
+    auto system = buildRadiositySystem(scene, *mesh, set);
+    if (!system) return withContext(system.error(), "path trace");
+    auto caster = EmbreeRayCaster::create(*mesh, PacketMode::Single);
+    if (!caster) return withContext(caster.error(), "path trace");
+    const EmitterTable emitters = emitterTable(*mesh, *system);
+
+    double extent = 0;
+    for (const Vec3d& v : mesh->positions)
+        extent = std::max({extent, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+    const Responses responses = makeResponses(set, settings.spectral);
+    const Tracer tracer{*mesh,
+                        *system,
+                        emitters,
+                        **caster,
+                        responses,
+                        1e-5 * std::max(extent, 1e-3),
+                        settings.maxBounces};
+
+    const std::size_t m = set.size();
+    const int channels = int(m) * (settings.spectral ? 1 : 0) + 4;
+    const int xyzChannel = settings.spectral ? int(m) : 0;
+    PathTraceResult result;
+    result.image = Image(settings.width, settings.height, channels);
+    result.varianceY = Image(settings.width, settings.height, 1);
+    const int side = samplesPerSide(settings.samplesPerPixel);
+    const int n = settings.samplesPerPixel;
+    const uint32_t imageSeed = shared::pcgHash(settings.seed ^ 0x5bd1e995u);
+    std::atomic<uint64_t> rayCount{0};
+    std::atomic<bool> stopped{false};
+    Progress progress("path trace", uint64_t(settings.height), "rows",
+                      settings.showProgress && progressEnabledByDefault());
+
+    const auto renderRows = [&](const tbb::blocked_range<int>& rows) {
+        const std::size_t rowsCarried = responses.rows;
+        std::vector<double> value(rowsCarried), weight(rowsCarried * m), next(rowsCarried * m);
+        std::vector<double> sum(rowsCarried);
+        SegmentArrays segment;
+        segment.resize(1);
+        uint64_t rays = 0;
+        for (int y = rows.begin(); y != rows.end(); ++y) {
+            if (isCancelled(cancel)) {
+                stopped = true;
+                break;
+            }
+            for (int x = 0; x < settings.width; ++x) {
+                const uint32_t pixel = uint32_t(y) * uint32_t(settings.width) + uint32_t(x);
+                const uint32_t pixelSeed = shared::pcgHash(imageSeed ^ shared::pcgHash(pixel));
+                std::fill(sum.begin(), sum.end(), 0.0);
+                double sumY2 = 0, hits = 0;
+                for (int s = 0; s < n; ++s) {
+                    PathRandom random{shared::pcgHash(pixelSeed + uint32_t(s) * 0x9e3779b9u)};
+                    const double ju = random.next(), jv = random.next();
+                    const auto [ox, oy] = stratumOffset(s, side, ju, jv);
+                    const Ray ray =
+                        primaryRay(camera, settings.width, settings.height, x + ox, y + oy);
+                    if (!tracer.trace(ray, random, value, weight, next, segment, rays)) continue;
+                    hits += 1;
+                    for (std::size_t c = 0; c < rowsCarried; ++c)
+                        sum[c] += value[c];
+                    sumY2 += value[1] * value[1];
+                }
+                // Responses are X Y Z [L...]; the image is [L...] X Y Z coverage.
+                float* out = result.image.at(x, y);
+                for (std::size_t k = 3; k < rowsCarried; ++k)
+                    out[k - 3] = static_cast<float>(sum[k] / n);
+                for (int c = 0; c < 3; ++c)
+                    out[xyzChannel + c] = static_cast<float>(sum[std::size_t(c)] / n);
+                out[xyzChannel + 3] = static_cast<float>(hits / n);
+                const double sumY = sum[1];
+                // Misses are samples of value 0: the variance counts them.
+                const double mean = sumY / n;
+                const double sampleVariance =
+                    n > 1 ? std::max(0.0, (sumY2 - n * mean * mean) / (n - 1)) : 0.0;
+                *result.varianceY.at(x, y) = static_cast<float>(sampleVariance / n);
+            }
+            progress.advance(1);
+        }
+        rayCount += rays;
+    };
+    const tbb::blocked_range<int> allRows(0, settings.height, 1);
+    if (settings.threads > 0) {
+        tbb::task_arena arena(settings.threads);
+        arena.execute([&] { tbb::parallel_for(allRows, renderRows); });
+    } else {
+        tbb::parallel_for(allRows, renderRows);
+    }
+    progress.finish();
+    result.cancelled = stopped;
+    result.paths = uint64_t(settings.width) * settings.height * uint64_t(n);
+    result.rays = rayCount;
+    result.relativeNoise = relativeRmsNoise(result.image, xyzChannel + 1, result.varianceY);
+    result.seconds = timer.seconds();
+    return result;
+}
+
+}  // namespace daisy

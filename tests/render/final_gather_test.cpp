@@ -1,0 +1,159 @@
+// The direct final gather (image/final_gather.h) on parallel plates where the answer is known
+// per point: a black source plate emitting E = 1 over a receiver of reflectance 0.5, nothing
+// else, so the receiver's radiance at x is exactly rho E F(x -> source) / pi, F by Lambert's
+// contour formula (verify/closed_forms.h), and the source's is E / pi. The smooth radiosity
+// image (--gather none) cannot show that gradient within a patch; the gathered image must, to
+// float precision. The path tracer must agree with it within its own noise.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <utility>
+#include <vector>
+
+#include "image/camera.h"
+#include "image/radiosity_image.h"
+#include "pathtrace/path_tracer.h"
+#include "pipeline/session.h"
+#include "verify/closed_forms.h"
+#include "verify/scenes.h"
+
+namespace daisy {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+Material flat(double reflectance, double emission) {
+    Material m;
+    m.name = emission > 0 ? "source" : "receiver";
+    m.spectral.reflectance =
+        SpectrumSpec{TabulatedSpectrum{{300, 900}, {reflectance, reflectance}}};
+    if (emission > 0)
+        m.spectral.emission = SpectrumSpec{TabulatedSpectrum{{300, 900}, {emission, emission}}};
+    return m;
+}
+
+struct Plates {
+    Scene scene;
+    Camera camera;
+    std::vector<Vec3d> source;  // the source square, counter-clockwise about its normal -z
+};
+
+Plates plates() {
+    Plates p;
+    p.scene.path = "plates";
+    verify::addQuad(p.scene.mesh, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, 0);  // receiver
+    p.source = {{0, 0, 1}, {0, 1, 1}, {1, 1, 1}, {1, 0, 1}};
+    verify::addQuad(p.scene.mesh, p.source[0], p.source[1], p.source[2], p.source[3], 1);
+    p.scene.materials = {flat(0.5, 0), flat(0, 1)};
+    p.camera.name = "oblique";
+    p.camera.position = {0.5, -1.5, 0.6};
+    p.camera.forward = normalize(Vec3d{0.5, 0.5, 0} - p.camera.position);
+    const Vec3d side = normalize(cross(p.camera.forward, Vec3d{0, 0, 1}));
+    p.camera.up = cross(side, p.camera.forward);
+    p.camera.yFovRad = 0.9;
+    return p;
+}
+
+Session solvedSession(const Plates& p) {
+    SessionSettings settings;
+    settings.subdivideMaxEdge = 0.25;
+    settings.wavelengthsText = "550";
+    settings.wavelengthSet = *WavelengthSet::fromWavelengths({550}, "550");
+    settings.logStages = false;
+    auto session = Session::fromScene(p.scene, settings);
+    EXPECT_TRUE(session.ok()) << session.error().message;
+    EXPECT_TRUE(session->buildFormFactors().ok());
+    EXPECT_TRUE(session->solve().ok());
+    return std::move(*session);
+}
+
+// Where the ray through image position (x, y) meets the receiver's plane z = 0.
+Vec3d onReceiverPlane(const Camera& camera, int width, int height, double x, double y) {
+    const Ray ray = primaryRay(camera, width, height, x, y);
+    const Vec3d o{ray.origin[0], ray.origin[1], ray.origin[2]};
+    const Vec3d d{ray.direction[0], ray.direction[1], ray.direction[2]};
+    return o + d * (-o.z / d.z);
+}
+
+bool insideReceiver(const Vec3d& p) {
+    return p.x > 0.01 && p.x < 0.99 && p.y > 0.01 && p.y < 0.99;
+}
+
+// The receiver point the ray through pixel (x, y)'s centre hits, when the whole pixel (its four
+// corners) lies on the receiver.
+bool receiverPoint(const Camera& camera, int width, int height, int x, int y, Vec3d& point) {
+    for (const auto& [dx, dy] : {std::pair{0, 0}, {1, 0}, {0, 1}, {1, 1}}) {
+        if (!insideReceiver(onReceiverPlane(camera, width, height, x + dx, y + dy))) return false;
+    }
+    point = onReceiverPlane(camera, width, height, x + 0.5, y + 0.5);
+    return true;
+}
+
+TEST(FinalGather, ParallelPlatesMatchThePointToPolygonClosedForm) {
+    const Plates p = plates();
+    Session session = solvedSession(p);
+    RenderSettings settings;
+    settings.width = 48;
+    settings.height = 36;
+    DirectLightSettings direct;
+    auto gathered =
+        renderRadiosityImage(session, p.camera, settings, GatherMode::Direct, direct, false);
+    auto smooth =
+        renderRadiosityImage(session, p.camera, settings, GatherMode::None, direct, false);
+    ASSERT_TRUE(gathered.ok() && smooth.ok());
+    const double yWeight = session.wavelengths().xyzWeights(0)[1];
+    int checked = 0;
+    double worstSmooth = 0;
+    for (int y = 0; y < settings.height; ++y) {
+        for (int x = 0; x < settings.width; ++x) {
+            Vec3d point;
+            if (!receiverPoint(p.camera, settings.width, settings.height, x, y, point)) continue;
+            const double exact = 0.5 * verify::pointToPolygon(point, {0, 0, 1}, p.source) / kPi;
+            EXPECT_NEAR(gathered->at(x, y)[1] / yWeight, exact, 2e-4 * exact + 1e-7)
+                << x << " " << y;
+            worstSmooth =
+                std::max(worstSmooth, std::abs(smooth->at(x, y)[1] / yWeight - exact) / exact);
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 60);
+    // The oracle sees the difference: the smooth image is several percent off somewhere.
+    EXPECT_GT(worstSmooth, 0.03);
+}
+
+TEST(FinalGather, PathTracerAgreesWithTheGatheredPlates) {
+    const Plates p = plates();
+    Session session = solvedSession(p);
+    RenderSettings settings;
+    settings.width = 16;
+    settings.height = 12;
+    auto gathered =
+        renderRadiosityImage(session, p.camera, settings, GatherMode::Direct, {}, false);
+    ASSERT_TRUE(gathered.ok());
+    PathTraceSettings trace;
+    trace.width = settings.width;
+    trace.height = settings.height;
+    trace.samplesPerPixel = 1024;
+    trace.showProgress = false;
+    auto traced = pathTrace(p.scene, session.wavelengths(), p.camera, trace);
+    ASSERT_TRUE(traced.ok()) << traced.error().message;
+    double sumGathered = 0, sumTraced = 0, variance = 0;
+    for (int y = 0; y < settings.height; ++y) {
+        for (int x = 0; x < settings.width; ++x) {
+            Vec3d point;
+            if (!receiverPoint(p.camera, settings.width, settings.height, x, y, point)) continue;
+            sumGathered += gathered->at(x, y)[1];
+            sumTraced += traced->image.at(x, y)[1];
+            variance += *traced->varianceY.at(x, y);
+        }
+    }
+    ASSERT_GT(sumGathered, 0);
+    // Each pixel is a box-filtered mean in both (the path tracer jitters, the gather takes the
+    // centre at 1 spp): a 0.5% allowance for that on top of five standard errors.
+    EXPECT_NEAR(sumTraced, sumGathered, 5 * std::sqrt(variance) + 0.005 * sumGathered);
+    EXPECT_LT(std::sqrt(variance), 0.01 * sumGathered);
+}
+
+}  // namespace
+}  // namespace daisy
