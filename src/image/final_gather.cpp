@@ -319,8 +319,8 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                     for (int a = 0; a < 3; ++a)
                         sampleValues[std::size_t(xyzChannel + a)] = xyz[std::size_t(a)];
                     if (shader != nullptr) shader->shade(hit, sampleValues);
-                    for (std::size_t c = 0; c < sampleValues.size(); ++c)
-                        sum[c] += sampleValues[c];
+                    for (std::size_t v = 0; v < sampleValues.size(); ++v)
+                        sum[v] += sampleValues[v];
                 }
                 float* out = image.at(x, y);
                 for (int ch = 0; ch < channels; ++ch)
