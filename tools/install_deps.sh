@@ -10,6 +10,7 @@ packages=(
     # core libraries
     libcli11-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libtinyobjloader-dev
     libembree-dev libtbb-dev libopenexr-dev libmeshoptimizer-dev
+    libdraco-dev
     # Vulkan compute and the viewer
     libvulkan-dev libvulkan-volk-dev glslang-tools spirv-tools mesa-vulkan-drivers vulkan-tools
     libglfw3-dev libglm-dev libimgui-dev xvfb xauth

@@ -11,10 +11,10 @@
 namespace daisy {
 namespace {
 
-constexpr std::array<std::string_view, 8> kSupported = {
-    "KHR_materials_emissive_strength", kSpectralExtensionName,   "KHR_mesh_quantization",
-    "KHR_texture_transform",           "KHR_lights_punctual",    "EXT_mesh_gpu_instancing",
-    "EXT_meshopt_compression",         "KHR_meshopt_compression"};
+constexpr std::array<std::string_view, 9> kSupported = {
+    "KHR_materials_emissive_strength", kSpectralExtensionName,    "KHR_mesh_quantization",
+    "KHR_texture_transform",           "KHR_lights_punctual",     "EXT_mesh_gpu_instancing",
+    "EXT_meshopt_compression",         "KHR_meshopt_compression", "KHR_draco_mesh_compression"};
 
 // Material extensions a diffuse solve drops, and what the warning calls them.
 constexpr std::array<std::pair<std::string_view, std::string_view>, 10> kMaterialFeatures = {{
@@ -89,11 +89,8 @@ bool isSupportedGltfExtension(const std::string& name) {
 Expected<void> checkRequiredGltfExtensions(const nlohmann::json& root) {
     for (const std::string& name : stringArray(root, "extensionsRequired")) {
         if (isSupportedGltfExtension(name)) continue;
-        const bool compression = name == "KHR_draco_mesh_compression";
-        return Error{concat("extensionsRequired: ", name, " is not supported",
-                            compression ? ": daisy cannot decode this compressed geometry; "
-                                          "export the file without mesh compression"
-                                        : ": the file cannot be read without it")};
+        return Error{concat("extensionsRequired: ", name,
+                            " is not supported: the file cannot be read without it")};
     }
     return {};
 }

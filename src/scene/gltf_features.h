@@ -2,7 +2,7 @@
 // What a glTF file asks for that daisy does or does not model (issue 19), read from the raw JSON
 // (bounded_json.h) before tinygltf parses it. Internal to scene/ (gltf_loader.cpp).
 // - extensionsRequired naming an extension daisy cannot read is refused in one line that names
-//   it (Draco and meshopt compression: the data is unreadable without a decoder).
+//   it (Draco and meshopt compression are decoded first: gltf_draco.h, gltf_meshopt.h).
 // - Every other unsupported extension in extensionsUsed, and each material feature a diffuse
 //   radiosity solve drops (metallic, alpha blending and masking, transmission, clearcoat, ...),
 //   gets one warning line naming the materials that use it.

@@ -20,6 +20,7 @@
 #include "scene/bounded_json.h"
 #include "scene/gltf_accessors.h"
 #include "scene/gltf_document.h"
+#include "scene/gltf_draco.h"
 #include "scene/gltf_features.h"
 #include "scene/gltf_lights.h"
 #include "scene/gltf_meshopt.h"
@@ -653,6 +654,15 @@ Expected<ParsedFile> parseFile(const std::string& path, LoadBudget& budget,
     if (usesMeshoptCompression(parsed.root)) {
         // Decoded into plain glTF (a .gltf with data: buffers) before anything else reads it.
         if (auto ok = decodeMeshoptViews(parsed.root, folder, chunks.bin, budget); !ok) {
+            return ok.error();
+        }
+        bytes = parsed.root.dump();
+        binary = false;
+        chunks = GlbChunks{};
+    }
+    if (usesDracoCompression(parsed.root)) {
+        // KHR_draco_mesh_compression the same way: decoded primitives in a data: buffer.
+        if (auto ok = decodeDracoPrimitives(parsed.root, folder, chunks.bin, budget); !ok) {
             return ok.error();
         }
         bytes = parsed.root.dump();

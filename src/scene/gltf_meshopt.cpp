@@ -68,13 +68,14 @@ Expected<std::string> base64Decode(std::string_view text) {
     return bytes;
 }
 
-std::string dataUri(std::string_view bytes) {
+}  // namespace
+
+std::string gltfDataUri(std::string_view bytes) {
     return "data:application/octet-stream;base64," + base64Encode(bytes);
 }
 
-// The bytes of buffers[index]: the GLB BIN chunk, a data: uri, or a file beside the scene.
-Expected<std::string> bufferBytes(const nlohmann::json& buffer, std::size_t index,
-                                  const std::string& folder, std::string_view glbBin) {
+Expected<std::string> gltfBufferBytes(const nlohmann::json& buffer, std::size_t index,
+                                      const std::string& folder, std::string_view glbBin) {
     const auto uri = buffer.find("uri");
     if (uri == buffer.end()) {
         if (index == 0) return std::string(glbBin);
@@ -92,6 +93,8 @@ Expected<std::string> bufferBytes(const nlohmann::json& buffer, std::size_t inde
     if (!file) return Error{concat("buffers[", index, "].uri: cannot read '", text, "'")};
     return std::string(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
 }
+
+namespace {
 
 uint64_t integer(const nlohmann::json& object, const char* key, uint64_t fallback) {
     const auto it = object.find(key);
@@ -133,7 +136,7 @@ Expected<void> decodeMeshoptViews(nlohmann::json& root, const std::string& folde
                          ": buffer, byteLength, byteStride (1..256) and count are required"};
         }
         if (!loaded[buffer]) {
-            auto bytes = bufferBytes(buffers[buffer], buffer, folder, glbBin);
+            auto bytes = gltfBufferBytes(buffers[buffer], buffer, folder, glbBin);
             if (!bytes) return withContext(bytes.error(), where);
             sources[buffer] = std::move(*bytes);
             loaded[buffer] = 1;
@@ -192,11 +195,11 @@ Expected<void> decodeMeshoptViews(nlohmann::json& root, const std::string& folde
         // tinygltf refuses an empty data: uri; a fallback keeps 4 zero bytes no view reads.
         const std::string bytes =
             b == 0 && !glbBin.empty() ? std::string(glbBin) : std::string(4, '\0');
-        buffer["uri"] = dataUri(bytes);
+        buffer["uri"] = gltfDataUri(bytes);
         buffer["byteLength"] = bytes.size();
         if (buffer.contains("extensions")) buffer.erase("extensions");
     }
-    buffers.push_back({{"byteLength", decoded.size()}, {"uri", dataUri(decoded)}});
+    buffers.push_back({{"byteLength", decoded.size()}, {"uri", gltfDataUri(decoded)}});
     for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
         if (!root.contains(list) || !root[list].is_array()) continue;
         nlohmann::json kept = nlohmann::json::array();

@@ -14,14 +14,22 @@
 
 namespace daisy {
 
+// A data: uri (base64) holding `bytes`.
+std::string gltfDataUri(std::string_view bytes);
+
+// The bytes of buffers[index]: the GLB BIN chunk (`glbBin`, buffer 0 without a uri), a data:
+// uri, or a file beside the scene in `folder`. Shared with gltf_draco.cpp.
+Expected<std::string> gltfBufferBytes(const nlohmann::json& buffer, std::size_t index,
+                                      const std::string& folder, std::string_view glbBin);
+
 // True when some bufferView of `root` carries the compression extension.
 bool usesMeshoptCompression(const nlohmann::json& root);
 
 // Decodes in place: `root` gains a buffer with a data: uri holding the decoded views, and loses
 // the extension from extensionsUsed and extensionsRequired. Fallback buffers (no uri) become
-// 4-byte data: buffers no view reads. `folder` is the scene's folder (for buffers in files), `glbBin` the GLB
-// BIN chunk (buffer 0 without a uri), which becomes a data: uri too, so the result is parsed as
-// a .gltf.
+// 4-byte data: buffers no view reads. `folder` is the scene's folder (for buffers in files),
+// `glbBin` the GLB BIN chunk (buffer 0 without a uri), which becomes a data: uri too, so the result
+// is parsed as a .gltf.
 Expected<void> decodeMeshoptViews(nlohmann::json& root, const std::string& folder,
                                   std::string_view glbBin, LoadBudget& budget);
 

@@ -183,12 +183,15 @@ const std::map<std::string, Case>& cases() {
              room["materials"][1].erase("extensions");
              return info(saveGltf(dir, "dark.gltf", room));
          }},
-        {"gltf-draco-required",
+        {"gltf-draco-undecodable",
          [](const auto& dir) {
-             json room = lampRoom();
-             room["extensionsUsed"] = {"KHR_draco_mesh_compression"};
-             room["extensionsRequired"] = {"KHR_draco_mesh_compression"};
-             return info(saveGltf(dir, "draco.gltf", room));
+             // The Draco Cornell box (tests/data/blender, tools/make_draco_fixture.py) with its
+             // compressed buffer zeroed.
+             std::ifstream in(testDataPath("blender/cornell_draco.gltf"));
+             const json box = json::parse(in);
+             writeFile(dir, "cornell_draco.bin",
+                       std::string(box["buffers"][0]["byteLength"].get<std::size_t>(), '\0'));
+             return info(saveGltf(dir, "draco.gltf", box));
          }},
         {"gltf-missing-texture",
          [](const auto& dir) {

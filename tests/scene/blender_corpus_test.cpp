@@ -5,8 +5,14 @@
 
 #include <array>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "geometry/patch_mesh.h"
 #include "image/image_io.h"
@@ -188,6 +194,177 @@ TEST(BlenderCorpus, MeshoptCompressedFileLoadsLikeTheUncompressedOne) {
     const auto got = meanReflectance(compressed, "floor");
     for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(got[c], expected[c], 1e-3) << c;
+}
+
+// cornell_draco.gltf: cornell.gltf with every primitive KHR_draco_mesh_compression-compressed
+// (required) by draco_transcoder 1.5.5 at its default 11-bit positions
+// (tools/make_draco_fixture.py), decoded by libdraco. Each primitive is quantized over its own
+// bounds, at most the 1 m box, so a corner moves by at most one step of 1/2047 m.
+constexpr double kDracoStep = 1.0 / 2047;
+
+// True when triangle t of `a` and triangle u of `b` have the same material and the same corners
+// within `tolerance`, in the same winding (any starting corner).
+bool sameTriangle(const TriangleMesh& a, std::size_t t, const TriangleMesh& b, std::size_t u,
+                  double tolerance) {
+    if (a.materials[t] != b.materials[u]) return false;
+    for (int shift = 0; shift < 3; ++shift) {
+        bool all = true;
+        for (int k = 0; k < 3 && all; ++k)
+            all = length(a.corner(t, k) - b.corner(u, (k + shift) % 3)) <= tolerance;
+        if (all) return true;
+    }
+    return false;
+}
+
+TEST(BlenderCorpus, DracoCompressedCornellBoxLoadsLikeTheUncompressedOne) {
+    const Scene original = load("cornell.gltf");
+    const Scene draco = load("cornell_draco.gltf");
+    ASSERT_EQ(original.mesh.triangleCount(), 36u);
+    ASSERT_EQ(draco.mesh.triangleCount(), original.mesh.triangleCount());
+    ASSERT_EQ(draco.materials.size(), original.materials.size());
+    // Materials and the emitter come from the same JSON (emissive strength 10 included).
+    for (std::size_t m = 0; m < original.materials.size(); ++m) {
+        EXPECT_EQ(draco.materials[m].name, original.materials[m].name);
+        EXPECT_EQ(draco.materials[m].baseColor, original.materials[m].baseColor);
+        EXPECT_EQ(draco.materials[m].emissiveRgb, original.materials[m].emissiveRgb);
+    }
+    ASSERT_EQ(original.materials[3].name, "light");
+    EXPECT_GT(draco.materials[3].emissiveRgb[0], 0.0);
+    // Every decoded triangle is one of the original's, corner by corner within the step, and no
+    // two decoded triangles match the same original one.
+    std::vector<char> used(original.mesh.triangleCount(), 0);
+    double worst = 0;
+    for (std::size_t t = 0; t < draco.mesh.triangleCount(); ++t) {
+        std::size_t match = original.mesh.triangleCount();
+        for (std::size_t u = 0; u < original.mesh.triangleCount() && match == used.size(); ++u) {
+            if (!used[u] && sameTriangle(draco.mesh, t, original.mesh, u, kDracoStep)) match = u;
+        }
+        ASSERT_LT(match, used.size()) << "decoded triangle " << t << " is not in cornell.gltf";
+        used[match] = 1;
+        for (int k = 0; k < 3; ++k) {
+            double nearest = 1e30;
+            for (int j = 0; j < 3; ++j) {
+                nearest = std::min(
+                    nearest, length(draco.mesh.corner(t, k) - original.mesh.corner(match, j)));
+            }
+            worst = std::max(worst, nearest);
+        }
+    }
+    EXPECT_GT(worst, 0.0);  // quantized: not a copy of the original floats
+    EXPECT_LE(worst, kDracoStep);
+    EXPECT_NEAR(meshArea(draco.mesh), meshArea(original.mesh), 6.19 * 4 * kDracoStep);
+}
+
+TEST(BlenderCorpus, DracoCompressedCornellBoxRendersLikeCycles) {
+    // The same render and tolerance as CornellBoxMatchesCycles, from the Draco file.
+    const auto dir = test::testTempDir();
+    const std::string out = (dir / "cornell_draco.exr").string();
+    const test::RunResult run =
+        test::runDaisy("render " + test::testDataPath("blender/cornell_draco.gltf") +
+                       " --width 64 --height 64 -q -o " + out);
+    ASSERT_EQ(run.status, 0) << run.output;
+    auto daisyImage = readExr(out);
+    ASSERT_TRUE(daisyImage) << daisyImage.error().message;
+    auto cycles = readExr(test::testDataPath("blender/cornell_cycles.exr"));
+    ASSERT_TRUE(cycles) << cycles.error().message;
+    ASSERT_EQ(daisyImage->width, 64);
+    for (const char* channel : {"R", "G", "B"}) {
+        const double expected = channelMean(*cycles, channel);
+        const double got = channelMean(*daisyImage, channel);
+        EXPECT_NEAR(got / expected, 1.0, 0.04)
+            << channel << ": daisy " << got << ", Cycles " << expected;
+    }
+}
+
+// A copy of cornell_draco.gltf in a temporary folder, edited by `edit`, with `bin` as its
+// buffer; the loader's one-line error.
+// The copy's path.
+std::string dracoCopyPath() {
+    return (test::testTempDir() / "cornell_draco.gltf").string();
+}
+
+std::string dracoError(const std::function<void(nlohmann::json&)>& edit, const std::string& bin) {
+    std::ifstream in(test::testDataPath("blender/cornell_draco.gltf"));
+    nlohmann::json doc = nlohmann::json::parse(in);
+    edit(doc);
+    const auto dir = test::testTempDir();
+    test::writeFile(dir, "cornell_draco.bin", bin);
+    const std::string path = test::writeFile(dir, "cornell_draco.gltf", doc.dump());
+    auto scene = loadScene(path, {});
+    if (scene) return "loaded";
+    return scene.error().message;
+}
+
+std::string dracoBin() {
+    std::ifstream in(test::testDataPath("blender/cornell_draco.bin"), std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST(BlenderCorpus, CorruptDracoDataIsRefusedNamingTheMeshAndPrimitive) {
+    const std::string where =
+        ": meshes[0] (\"floor\").primitives[0].extensions.KHR_draco_mesh_compression: ";
+    const std::string path = dracoCopyPath();
+    const auto keep = [](nlohmann::json&) {};
+    // Zeros: no Draco header.
+    EXPECT_EQ(dracoError(keep, std::string(dracoBin().size(), '\0')),
+              path + where +
+                  "the compressed data in bufferViews[0] cannot be decoded (draco: Not "
+                  "a Draco file.)");
+    // The header kept, the geometry overwritten.
+    std::string bin = dracoBin();
+    for (std::size_t i = 20; i < 60; ++i)
+        bin[i] = 'Z';
+    EXPECT_EQ(dracoError(keep, bin),
+              path + where +
+                  "the compressed data in bufferViews[0] cannot be decoded (draco: "
+                  "Failed to decode geometry data.)");
+    // An attribute id the compressed data does not have.
+    EXPECT_EQ(
+        dracoError(
+            [](nlohmann::json& doc) {
+                doc["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]
+                   ["attributes"]["POSITION"] = 7;
+            },
+            dracoBin()),
+        path + where + "attribute POSITION: Draco attribute id 7 is not in the compressed data");
+    // Accessor counts that do not match the decoded mesh (2 triangles over 4 points).
+    EXPECT_EQ(dracoError(
+                  [](nlohmann::json& doc) {
+                      const int indices = doc["meshes"][0]["primitives"][0]["indices"];
+                      doc["accessors"][indices]["count"] = 9;
+                  },
+                  dracoBin()),
+              path + where +
+                  "indices accessor 0 has count 9 but the decoded mesh has 2 triangles (6 "
+                  "indices)");
+    EXPECT_EQ(dracoError(
+                  [](nlohmann::json& doc) {
+                      const int position =
+                          doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"];
+                      doc["accessors"][position]["count"] = 3;
+                  },
+                  dracoBin()),
+              path + where +
+                  "attribute POSITION: accessor 1 has count 3 but the decoded mesh has 4 points");
+    // A bufferView past the end of the buffer.
+    EXPECT_EQ(dracoError([](nlohmann::json& doc) { doc["bufferViews"][0]["byteLength"] = 100000; },
+                         dracoBin()),
+              path + where + "bufferViews[0]: bytes [0, 100000) exceed buffers[0] (664 bytes)");
+}
+
+TEST(BlenderCorpus, DracoCorruptionFuzzNeverCrashes) {
+    // Every third byte of the compressed data set to 0xA5 in turn: each load either succeeds or
+    // gives one line naming the file.
+    const std::string original = dracoBin();
+    const std::string path = dracoCopyPath();
+    for (std::size_t i = 0; i < original.size(); i += 3) {
+        std::string bin = original;
+        bin[i] = char(0xA5);
+        const std::string message = dracoError([](nlohmann::json&) {}, bin);
+        if (message == "loaded") continue;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+        EXPECT_EQ(message.rfind(path + ": ", 0), 0u) << i << ": " << message;
+    }
 }
 
 }  // namespace
