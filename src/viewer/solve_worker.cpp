@@ -1,5 +1,6 @@
 #include "viewer/solve_worker.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <utility>
@@ -58,6 +59,7 @@ SolveWorker::~SolveWorker() {
         cancel_.cancel();
     }
     wake_.notify_all();
+    shownChanged_.notify_all();
     thread_.join();
 }
 
@@ -69,6 +71,7 @@ void SolveWorker::post(Command command) {
         cancel_.cancel();
     }
     wake_.notify_all();
+    shownChanged_.notify_all();
 }
 
 void SolveWorker::setMaterial(std::size_t index, Material material) {
@@ -101,6 +104,14 @@ std::shared_ptr<const DisplaySnapshot> SolveWorker::latest() const {
 bool SolveWorker::idle() const {
     std::lock_guard lock(mutex_);
     return queue_.empty() && !busy_;
+}
+
+void SolveWorker::shown(uint64_t version) {
+    {
+        std::lock_guard lock(mutex_);
+        shownVersion_ = std::max(shownVersion_, version);
+    }
+    shownChanged_.notify_all();
 }
 
 void SolveWorker::publish(const std::string& message, bool solving) {
@@ -186,6 +197,9 @@ void SolveWorker::firstBounce(std::size_t material) {
     }
     session_.setSolution(std::move(radiosity));
     publish("", true);
+    std::unique_lock lock(mutex_);
+    shownChanged_.wait_for(lock, std::chrono::duration<double>(kPreviewWaitSeconds),
+                           [&] { return stop_ || !queue_.empty() || shownVersion_ >= version_; });
 }
 
 void SolveWorker::run() {

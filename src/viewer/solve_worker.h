@@ -67,6 +67,11 @@ public:
     std::shared_ptr<const DisplaySnapshot> latest() const;
     // True when no command is queued or running.
     bool idle() const;
+    // The viewer has submitted a frame showing snapshot `version`. An edit's first-bounce
+    // preview waits for this (at most kPreviewWaitSeconds) before the solve takes the cores, so
+    // the preview reaches the screen at once even where the GPU is the CPU (lavapipe).
+    void shown(uint64_t version);
+    static constexpr double kPreviewWaitSeconds = 0.15;
 
     // Immutable after construction, safe to read from any thread.
     const PatchMesh& patches() const { return patches_; }
@@ -88,6 +93,8 @@ private:
     Scene initialScene_;
     mutable std::mutex mutex_;
     std::condition_variable wake_;
+    std::condition_variable shownChanged_;
+    uint64_t shownVersion_ = 0;
     std::deque<Command> queue_;
     bool busy_ = false;
     bool stop_ = false;

@@ -807,6 +807,7 @@ int Viewer::run() {
         const bool capture =
             ui_.screenshotRequest || (finalFrame && !options_.screenshotPath.empty());
         const bool drawn = drawFrame(capture);
+        if (drawn) worker_.shown(shownVersion_);
         // The frame's own time (record, submit, the wait for the frame before last): the frame
         // period when drawing continuously.
         const double work = clock_.seconds() - now;
