@@ -1,8 +1,6 @@
 #include "image/renderer.h"
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -96,13 +94,7 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
             }
         }
     };
-    const tbb::blocked_range<int> allRows(0, settings.height, 1);
-    if (settings.threads > 0) {
-        tbb::task_arena arena(settings.threads);
-        arena.execute([&] { tbb::parallel_for(allRows, renderRows); });
-    } else {
-        tbb::parallel_for(allRows, renderRows);
-    }
+    forEachImageRow(settings.height, settings.threads, renderRows);
     return image;
 }
 

@@ -1,8 +1,6 @@
 #include "pathtrace/path_tracer.h"
 
 #include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -375,13 +373,7 @@ Expected<PathTraceResult> pathTrace(const Scene& scene, const WavelengthSet& set
         }
         rayCount += rays;
     };
-    const tbb::blocked_range<int> allRows(0, settings.height, 1);
-    if (settings.threads > 0) {
-        tbb::task_arena arena(settings.threads);
-        arena.execute([&] { tbb::parallel_for(allRows, renderRows); });
-    } else {
-        tbb::parallel_for(allRows, renderRows);
-    }
+    forEachImageRow(settings.height, settings.threads, renderRows);
     progress.finish();
     result.cancelled = stopped;
     result.paths = uint64_t(settings.width) * settings.height * uint64_t(n);
