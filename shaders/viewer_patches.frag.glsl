@@ -11,6 +11,7 @@ layout(push_constant) uniform Push {
 
 layout(location = 0) in vec4 inValue;
 layout(location = 1) in vec3 inBarycentric;
+layout(location = 2) flat in float inTwoSided;
 layout(location = 0) out vec4 outColour;
 
 // IEC 61966-2-1 transfer curve, and its inverse.
@@ -22,6 +23,8 @@ float decodeSrgb(float c) {
 }
 
 void main() {
+    // Of a double-sided surface's two coincident patches, only the one facing the camera.
+    if (inTwoSided > 0.5 && !gl_FrontFacing) discard;
     bool encode = (p.flags & DAISY_VIEWER_FLAG_ENCODE_SRGB) != 0u;
     vec3 display;
     if (p.mode == DAISY_VIEWER_MODE_FALSE) {

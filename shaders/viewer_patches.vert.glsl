@@ -8,17 +8,19 @@ layout(push_constant) uniform Push {
     ViewerPush p;
 };
 
-layout(location = 0) in vec3 inPosition;
+layout(location = 0) in vec4 inPosition;  // w: 1 on a double-sided surface
 layout(location = 1) in vec4 inValue;
 layout(location = 0) out vec4 outValue;
 layout(location = 1) out vec3 outBarycentric;
+layout(location = 2) flat out float outTwoSided;
 
 void main() {
     mat4 viewProj;
     for (int c = 0; c < 4; ++c)
         viewProj[c] = vec4(p.viewProj[4 * c], p.viewProj[4 * c + 1], p.viewProj[4 * c + 2],
                            p.viewProj[4 * c + 3]);
-    gl_Position = viewProj * vec4(inPosition, 1.0);
+    gl_Position = viewProj * vec4(inPosition.xyz, 1.0);
+    outTwoSided = inPosition.w;
     outValue = inValue;
     int corner = gl_VertexIndex % 3;
     outBarycentric =

@@ -29,16 +29,16 @@ bool SurfaceDetail::empty() const {
     return appearance_.empty() && !hasBackPatches_;
 }
 
-void SurfaceDetail::resolve(const Ray& ray, SurfaceHit& hit) const {
-    if (!hasBackPatches_) return;
-    const uint32_t back = patches_.backPatch[hit.patch];
+void resolveBackFace(const PatchMesh& patches, const Ray& ray, SurfaceHit& hit) {
+    if (hit.patch >= patches.backPatch.size()) return;
+    const uint32_t back = patches.backPatch[hit.patch];
     if (back == kNoBackPatch) return;
-    const Vec3d& n = patches_.normals[hit.patch];
+    const Vec3d& n = patches.normals[hit.patch];
     const double facing = n.x * ray.direction[0] + n.y * ray.direction[1] + n.z * ray.direction[2];
     if (facing <= 0) return;  // seen from the front
     // Corner weights on the other patch: its corners are the same vertices, permuted.
-    const auto& from = patches_.patches[hit.patch];
-    const auto& to = patches_.patches[back];
+    const auto& from = patches.patches[hit.patch];
+    const auto& to = patches.patches[back];
     const double weights[3] = {1.0 - hit.u - hit.v, hit.u, hit.v};
     double mapped[3] = {0, 0, 0};
     for (int k = 0; k < 3; ++k) {
@@ -49,6 +49,10 @@ void SurfaceDetail::resolve(const Ray& ray, SurfaceHit& hit) const {
     hit.patch = back;
     hit.u = static_cast<float>(mapped[1]);
     hit.v = static_cast<float>(mapped[2]);
+}
+
+void SurfaceDetail::resolve(const Ray& ray, SurfaceHit& hit) const {
+    if (hasBackPatches_) resolveBackFace(patches_, ray, hit);
 }
 
 void SurfaceDetail::shade(const SurfaceHit& hit, std::span<double> values) const {

@@ -16,6 +16,24 @@
 
 namespace daisy {
 
+// Moves a hit on a double-sided surface seen from behind to its back patch, the corner weights
+// permuted to match (the two patches share their vertices). One-sided patches stay as they are.
+void resolveBackFace(const PatchMesh& patches, const Ray& ray, SurfaceHit& hit);
+
+// The back-face part of SurfaceDetail alone, for images of per-corner values without texture
+// detail (the viewer's exposure measurement).
+class BackFaceShader final : public SampleShader {
+public:
+    explicit BackFaceShader(const PatchMesh& patches) : patches_(patches) {}
+    void resolve(const Ray& ray, SurfaceHit& hit) const override {
+        resolveBackFace(patches_, ray, hit);
+    }
+    void shade(const SurfaceHit&, std::span<double>) const override {}
+
+private:
+    const PatchMesh& patches_;
+};
+
 class SurfaceDetail final : public SampleShader {
 public:
     // `wavelengthCount` spectral channels precede X, Y, Z (Session::patchChannels's layout;

@@ -1,6 +1,7 @@
 #include "viewer/patch_pipeline.h"
 
 #include <cstring>
+#include <vector>
 
 #include "core/check.h"
 #include "vulkan/pipelines.h"
@@ -44,10 +45,10 @@ PatchPipeline createPatchPipeline(const VulkanContext& context, VkRenderPass ren
     stages[1].pName = "main";
 
     const VkVertexInputBindingDescription bindings[2] = {
-        {0, 3 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX},
+        {0, 4 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX},
         {1, 4 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX}};
     const VkVertexInputAttributeDescription attributes[2] = {
-        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 0}};
+        {0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 0}, {1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 0}};
     VkPipelineVertexInputStateCreateInfo vertexInput{
         VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     vertexInput.vertexBindingDescriptionCount = 2;
@@ -120,13 +121,22 @@ PatchBuffers createPatchBuffers(const VulkanContext& context, const PatchMesh& m
     buffers.vertexCount = uint32_t(3 * mesh.patchCount());
     const VkDeviceSize vertices = std::max<VkDeviceSize>(buffers.vertexCount, 3);
     buffers.positions =
-        createHostBuffer(context, vertices * 3 * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+        createHostBuffer(context, vertices * 4 * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+    // w = 1 on both faces of a double-sided surface (PatchMesh::backPatch): the fragment shader
+    // keeps only the face turned to the camera, so the coincident pair does not z-fight.
+    std::vector<uint8_t> twoSided(mesh.patchCount(), 0);
+    for (std::size_t p = 0; p < mesh.backPatch.size(); ++p) {
+        if (mesh.backPatch[p] == kNoBackPatch) continue;
+        twoSided[p] = 1;
+        twoSided[mesh.backPatch[p]] = 1;
+    }
     float* out = static_cast<float*>(buffers.positions.mapped);
     for (std::size_t p = 0; p < mesh.patchCount(); ++p) {
         for (int corner = 0; corner < 3; ++corner) {
             const Vec3d& v = mesh.positions[mesh.patches[p][std::size_t(corner)]];
             for (int axis = 0; axis < 3; ++axis)
                 *out++ = static_cast<float>(v[axis]);
+            *out++ = float(twoSided[p]);
         }
     }
     for (int f = 0; f < framesInFlight; ++f) {

@@ -25,7 +25,7 @@ PatchPipeline createPatchPipeline(const VulkanContext& context, VkRenderPass ren
 void destroyPatchPipeline(const VulkanContext& context, PatchPipeline& pipeline);
 
 struct PatchBuffers {
-    HostBuffer positions;  // vertexCount x 3 floats, scene units
+    HostBuffer positions;  // vertexCount x 4 floats: x, y, z (scene units), double-sided flag
     std::vector<HostBuffer> values;  // per frame in flight: vertexCount x 4 floats
     std::vector<uint64_t> valueVersions;  // what each values buffer holds (0 = nothing)
     uint32_t vertexCount = 0;  // 3 x patches

@@ -22,6 +22,7 @@
 #include "image/camera.h"
 #include "image/image_io.h"
 #include "image/renderer.h"
+#include "image/texture_detail.h"
 #include "spectral/color.h"
 #include "viewer/display_values.h"
 #include "viewer/material_edit.h"
@@ -73,7 +74,9 @@ double measureExposure(const PatchMesh& mesh, const Camera& camera, const Displa
     const float miss[4] = {0, 0, 0, 0};
     Camera imageCamera = camera;
     imageCamera.aspectRatio = 0;
-    auto image = renderCornerValues(mesh, imageCamera, settings, xyz, 4, miss);
+    // The face of a double-sided surface that the camera sees, as daisy render shows it.
+    const BackFaceShader backFaces(mesh);
+    auto image = renderCornerValues(mesh, imageCamera, settings, xyz, 4, miss, &backFaces);
     return image ? autoExposureScale(*image) : 1.0;
 }
 
