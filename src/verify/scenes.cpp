@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "core/strings.h"
+
 namespace daisy::verify {
 
 void addGrid(TriangleMesh& mesh, Vec3d origin, Vec3d u, Vec3d v, int nu, int nv,
@@ -47,6 +49,20 @@ void addRoomFaces(TriangleMesh& mesh, Vec3d origin, Vec3d size, int n,
 
 void addRoom(TriangleMesh& mesh, Vec3d origin, Vec3d size, int n) {
     addRoomFaces(mesh, origin, size, n, {0, 1, 2, 3, 4, 5});
+}
+
+Scene unitRoomScene(int n, const std::string& emission, const Material& base) {
+    Scene scene;
+    scene.path = "room";
+    addRoom(scene.mesh, {0, 0, 0}, {1, 1, 1}, n);
+    for (int face = 0; face < 6; ++face) {
+        Material material = base;
+        material.name = concat("face", face);
+        material.origin = concat("room: material ", face);
+        scene.materials.push_back(material);
+    }
+    scene.materials[1].spectral.emission = SpectrumSpec{PresetSpectrum{emission}, 1.0};
+    return scene;
 }
 
 TriangleMesh unitCubeRoom(int n) {

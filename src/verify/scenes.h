@@ -3,10 +3,12 @@
 // `daisy bench --stress`. Triangles are counter-clockwise seen from their front (mesh.h); every
 // builder appends in a fixed order, so patch indices are stable and documented here.
 #include <cstdint>
+#include <string>
 
 #include "geometry/mesh.h"
 #include "geometry/patch_mesh.h"
 #include "radiosity/sparse_matrix.h"
+#include "scene/scene.h"
 
 namespace daisy::verify {
 
@@ -25,6 +27,11 @@ void addQuad(TriangleMesh& mesh, Vec3d p0, Vec3d p1, Vec3d p2, Vec3d p3, uint32_
 // (addGrid), in the order floor (z = 0), ceiling, y = 0, y = max, x = 0, x = max; face f gets
 // material f.
 void addRoom(TriangleMesh& mesh, Vec3d origin, Vec3d size, int n);
+
+// The unit room of addRoom(n) as a Scene at path "room": material f is `base` named "face<f>"
+// (origin "room: material <f>"), and face 1 (the ceiling) emits the preset spectrum `emission`
+// at scale 1.
+Scene unitRoomScene(int n, const std::string& emission, const Material& base = {});
 
 // The unit cube [0, 1]^3 as a closed room: the faces of addRoom (same order and triangles),
 // all material 0; 12 n^2 triangles.

@@ -13,7 +13,6 @@
 #include <utility>
 #include <vector>
 
-#include "core/strings.h"
 #include "test_util.h"
 #include "verify/scenes.h"
 
@@ -255,16 +254,7 @@ TEST(Session, InvalidMaterialEditIsRefused) {
 // Making a wall fluorescent in a room lit by a black light: the `auto` set gains its UV samples
 // (DESIGN.md section 4), the old-sized solution is dropped, F is kept, and the wall now glows.
 TEST(Session, FluorescentEditAddsTheUvSamples) {
-    Scene scene;
-    scene.path = "room";
-    verify::addRoom(scene.mesh, {0, 0, 0}, {1, 1, 1}, 2);  // face f has material f
-    for (int face = 0; face < 6; ++face) {
-        Material material;
-        material.name = concat("face", face);
-        material.origin = concat("room: material ", face);
-        scene.materials.push_back(material);
-    }
-    scene.materials[1].spectral.emission = SpectrumSpec{PresetSpectrum{"blacklight"}, 1.0};
+    Scene scene = verify::unitRoomScene(2, "blacklight");  // face f has material f
     SessionSettings settings;
     settings.backend = "cpu";
     settings.subdivideMaxEdge = 0;

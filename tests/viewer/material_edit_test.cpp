@@ -7,7 +7,6 @@
 
 #include <variant>
 
-#include "core/strings.h"
 #include "pipeline/session.h"
 #include "verify/scenes.h"
 
@@ -114,16 +113,7 @@ TEST(MaterialEdit, DraftsBecomeMaterialsTheSessionChecks) {
     EXPECT_EQ(preset->name, "fluorescein");
 
     // Absorption 1 across the visible under a reflectance of 0.8: refused, naming the material.
-    Scene scene;
-    scene.path = "room";
-    verify::addRoom(scene.mesh, {0, 0, 0}, {1, 1, 1}, 1);
-    for (int face = 0; face < 6; ++face) {
-        Material material = base;
-        material.name = concat("face", face);
-        material.origin = concat("room: material ", face);
-        scene.materials.push_back(material);
-    }
-    scene.materials[1].spectral.emission = SpectrumSpec{PresetSpectrum{"D65"}, 1.0};
+    Scene scene = verify::unitRoomScene(1, "D65", base);
     SessionSettings settings;
     settings.backend = "cpu";
     settings.subdivideMaxEdge = 0;

@@ -11,7 +11,6 @@
 #include <cmath>
 #include <thread>
 
-#include "core/strings.h"
 #include "verify/scenes.h"
 
 namespace daisy::viewer {
@@ -20,17 +19,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 Scene room() {
-    Scene scene;
-    scene.path = "room";
-    verify::addRoom(scene.mesh, {0, 0, 0}, {1, 1, 1}, 3);  // face f has material f
-    for (int face = 0; face < 6; ++face) {
-        Material material;
-        material.name = concat("face", face);
-        material.origin = concat("room: material ", face);
-        scene.materials.push_back(material);
-    }
-    scene.materials[1].spectral.emission = SpectrumSpec{PresetSpectrum{"D65"}, 1.0};
-    return scene;
+    return verify::unitRoomScene(3, "D65");  // face f has material f
 }
 
 Session solvedRoom(const std::vector<std::pair<std::size_t, Material>>& edits = {}) {
