@@ -251,16 +251,9 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     if (render.integrator == "path") {
         return pathTracedRender(options, render, *session, camera, settings, cameraName, total);
     }
-    auto formFactors = session->buildFormFactors(&interruptToken());
-    if (!formFactors) {
-        logError(formFactors.error().message);
-        return 2;
-    }
-    auto solved = session->solve(interruptibleSolve());
-    if (!solved) {
-        logError(solved.error().message);
-        return 2;
-    }
+    FormFactorReport formFactors;
+    if (!buildAndSolve(*session, &formFactors)) return 2;
+    const SolverResult& solved = session->solution();
 
     // Shade and ray cast (image/radiosity_image.h): the smooth per-corner radiance, or with
     // --gather direct that without the emitters' direct light plus the light per sample.
@@ -299,7 +292,7 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     logInfo(concat(
         "  time: load ", formatDuration(t.loadSeconds), ", mesh ", formatDuration(t.meshSeconds),
         ", view factors ", formatDuration(t.viewFactorSeconds),
-        formFactors->fromCache ? " (from the cache)" : "", ", solve ",
+        formFactors.fromCache ? " (from the cache)" : "", ", solve ",
         formatDuration(t.solveSeconds), ", shade ", formatDuration(shadeSeconds), ", render ",
         formatDuration(renderSeconds),
         gatherDirect ? concat(", final gather ", formatDuration(gatherSeconds)) : "", ", write ",
@@ -310,9 +303,9 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
                                          : concat(s.automaticPatchSize() ? "automatic " : "",
                                                   "--subdivide ", s.patchMaxEdge()),
                    "); ", s.system().wavelengthCount, " wavelengths (", s.wavelengths().name(),
-                   "); solve ", solved->iterations, " iterations, residual ",
-                   formatNumber(solved->residual, 3), solved->converged ? "" : " (not converged)"));
-    logInfo(concat("  ", skippedSummary(s, *formFactors)));
+                   "); solve ", solved.iterations, " iterations, residual ",
+                   formatNumber(solved.residual, 3), solved.converged ? "" : " (not converged)"));
+    logInfo(concat("  ", skippedSummary(s, formFactors)));
     logInfo(concat("  peak memory: ", formatBytes(double(peakResidentBytes()))));
     return 0;
 }

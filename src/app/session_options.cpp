@@ -52,4 +52,19 @@ SolveRequest interruptibleSolve() {
     return request;
 }
 
+bool buildAndSolve(Session& session, FormFactorReport* report) {
+    auto formFactors = session.buildFormFactors(&interruptToken());
+    if (!formFactors) {
+        logError(formFactors.error().message);
+        return false;
+    }
+    if (report) *report = *formFactors;
+    auto solved = session.solve(interruptibleSolve());
+    if (!solved) {
+        logError(solved.error().message);
+        return false;
+    }
+    return true;
+}
+
 }  // namespace daisy::app

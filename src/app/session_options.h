@@ -17,4 +17,9 @@ Expected<Session> openSession(const CommonOptions& options, PatchSizeDefault def
 // A solve that SIGINT / SIGTERM cancel (core/interrupt.h).
 SolveRequest interruptibleSolve();
 
+// F (memory, the disk cache or the backend), then an interruptible solve, as render and view
+// run them. Prints the message of an error and returns false (exit status 2). `report`, when
+// given, receives how F was made.
+bool buildAndSolve(Session& session, FormFactorReport* report = nullptr);
+
 }  // namespace daisy::app

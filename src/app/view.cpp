@@ -56,16 +56,7 @@ int runView(const CommonOptions& options, const ViewOptions& view) {
     }
     auto session = openSession(options, PatchSizeDefault::Automatic, checkScene);
     if (!session) return 2;
-    auto formFactors = session->buildFormFactors(&interruptToken());
-    if (!formFactors) {
-        logError(formFactors.error().message);
-        return 2;
-    }
-    auto solved = session->solve(interruptibleSolve());
-    if (!solved) {
-        logError(solved.error().message);
-        return 2;
-    }
+    if (!buildAndSolve(*session)) return 2;
     viewer::ViewerOptions settings;
     settings.device = options.device;
     settings.camera = view.camera;
