@@ -133,9 +133,11 @@ void warnDroppedGltfFeatures(const nlohmann::json& root, const std::string& path
                 if (isSupportedGltfExtension(key)) continue;
                 materialExtensions.push_back(key);
                 if (hasNoEffectOnDiffuse(key, value)) continue;
+                // A structured binding is not capturable before clang 16: name it.
+                const std::string& extension = key;
                 const auto known =
                     std::find_if(kMaterialFeatures.begin(), kMaterialFeatures.end(),
-                                 [&](const auto& entry) { return entry.first == key; });
+                                 [&](const auto& entry) { return entry.first == extension; });
                 note(known != kMaterialFeatures.end() ? std::string(known->second) : key, name);
             }
         }
