@@ -181,6 +181,8 @@ Expected<FormFactorResult> CudaBackend::buildFormFactors(const PatchMesh& mesh,
 
     const PairKernelBatch evaluate = [&](std::span<const PairIndex> pairs, int rays,
                                          std::span<PairFactors> out) -> Expected<void> {
+        // The current device is per host thread, and the driver may call from another one.
+        CUDA_CHECK(cudaSetDevice(device_));
         const auto submit = [&](int s, std::size_t chunk) -> Expected<void> {
             const ChunkRange range = chunkRange(chunk, plan.launchPairs, pairs.size());
             Slot& slot = state.slots[s];
@@ -292,7 +294,19 @@ Expected<std::unique_ptr<Backend>> makeCudaBackend(const BackendOptions& options
 bool cudaDevicePresent() {
     static const bool present = [] {
         int count = 0;
-        return cudaGetDeviceCount(&count) == cudaSuccess && count > 0;
+        if (cudaGetDeviceCount(&count) != cudaSuccess) return false;
+        for (int d = 0; d < count; ++d) {
+            int major = 0;
+            int minor = 0;
+            if (cudaDeviceGetAttribute(&major, cudaDevAttrComputeCapabilityMajor, d) ==
+                    cudaSuccess &&
+                cudaDeviceGetAttribute(&minor, cudaDevAttrComputeCapabilityMinor, d) ==
+                    cudaSuccess &&
+                major * 10 + minor >= kMinComputeCapability) {
+                return true;
+            }
+        }
+        return false;
     }();
     return present;
 }

@@ -16,7 +16,8 @@ Expected<std::unique_ptr<Backend>> makeCudaBackend(const BackendOptions& options
 Expected<std::unique_ptr<Backend>> makeCudaBackend(const BackendOptions& options,
                                                    const CudaBatchLimits& limits);
 
-// True when the CUDA runtime finds at least one device (what `--backend auto` asks first).
+// True when the CUDA runtime finds a device this build has code for, compute capability 7.5 or
+// newer (what `--backend auto` asks first).
 bool cudaDevicePresent();
 
 }  // namespace daisy

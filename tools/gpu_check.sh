@@ -100,7 +100,7 @@ else
 fi
 
 export DAISY_REQUIRE_CUDA=1 DAISY_REQUIRE_VULKAN=1
-step "cuda tests" 120 "$tests" --gtest_brief=1 \
+step "cuda tests" 120 "$tests" \
     --gtest_filter='*Cuda*:*cuda*'
 for scene in cornell_box colored_lights furnace_box parallel_plates perpendicular_plates; do
     step "validate cuda against reference: $scene" 60 \
@@ -114,7 +114,7 @@ timeF cpu
 timeF vulkan "${vulkanDevice[@]}" --verbose
 step "validate cuda against reference: blacklight_box, 7,712 patches" 150 \
     "$daisy" validate assets/scenes/blacklight_box.gltf --backend cuda --against reference
-step "vulkan and backend tests" 150 "$tests" --gtest_brief=1 \
+step "vulkan and backend tests" 150 "$tests" \
     --gtest_filter='*Vulkan*:*vulkan*:Backend.*:Backends/*:ValidateCli.*:-*cuda*:*Cuda*'
 
 log "" "== summary ($(($(date +%s) - start)) s)"
