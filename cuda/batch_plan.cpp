@@ -3,6 +3,8 @@
 #include <algorithm>
 
 #include "core/strings.h"
+#include "radiosity/form_factors_internal.h"
+#include "radiosity/pair_evaluator.h"
 #include "shared/config.h"
 
 namespace daisy {
@@ -41,6 +43,20 @@ Expected<CudaBatchPlan> planCudaBatches(const CudaDeviceFacts& device, uint64_t 
         limits.batchPairs ? limits.batchPairs : std::size_t(launch * kCudaLaunchesPerBatch);
     plan.deviceBytes = fixedBytes + 2 * launch * kCudaSlotBytesPerPair;
     return plan;
+}
+
+shared::PairKernelParams packPairKernelParams(const FormFactorSettings& settings,
+                                              const void* patches, const void* nodes,
+                                              const void* triangles) {
+    shared::PairKernelParams params{};
+    params.patches = reinterpret_cast<uint64_t>(patches);
+    params.nodes = reinterpret_cast<uint64_t>(nodes);
+    params.triangles = reinterpret_cast<uint64_t>(triangles);
+    params.method = detail::methodConstant(settings.method);
+    params.level = settings.quadratureLevel;
+    params.seed = detail::seed32(settings.seed);  // as the cpu, reference and vulkan backends
+    params.clearance = kEndClearanceRelative;
+    return params;
 }
 
 }  // namespace daisy

@@ -1,12 +1,14 @@
 #pragma once
-// How the cuda backend cuts the driver's pairs into kernel launches (docs/gpu.md): pure host
-// arithmetic over a few device facts, so it is unit-tested without a device
-// (tests/cuda/batch_plan_test.cpp). No CUDA types here.
+// How the cuda backend cuts the driver's pairs into kernel launches and packs their arguments
+// (docs/gpu.md): pure host code over a few device facts, so it is unit-tested without a device
+// (tests/cuda/batch_plan_test.cpp, pair_slot_test.cpp). No CUDA types here.
 #include <cstddef>
 #include <cstdint>
 #include <string>
 
 #include "core/expected.h"
+#include "radiosity/form_factors.h"
+#include "shared/gpu_types.h"
 
 namespace daisy {
 
@@ -56,5 +58,13 @@ inline constexpr double kCudaMemoryFraction = 0.9;
 // Error (naming the device and the sizes) when the scene and the stack leave no room for a launch.
 Expected<CudaBatchPlan> planCudaBatches(const CudaDeviceFacts& device, uint64_t sceneBytes,
                                         uint64_t pairWork, const CudaBatchLimits& limits = {});
+
+// The pair kernel's arguments for a build: the device addresses of the scene arrays and the
+// settings as every pair-kernel backend passes them to pairEntry (DAISY_METHOD_* constant,
+// quadrature level, the 32-bit seed, kEndClearanceRelative). The per-launch fields (pairs,
+// results, pairOffset, pairCount, rays) are zero, for the caller to fill.
+shared::PairKernelParams packPairKernelParams(const FormFactorSettings& settings,
+                                              const void* patches, const void* nodes,
+                                              const void* triangles);
 
 }  // namespace daisy

@@ -21,8 +21,6 @@
 #include "cuda/double_buffer.h"
 #include "cuda/pair_kernel.h"
 #include "geometry/flat_bvh.h"
-#include "radiosity/form_factors_internal.h"
-#include "radiosity/pair_evaluator.h"
 
 namespace daisy {
 namespace {
@@ -170,14 +168,8 @@ Expected<FormFactorResult> CudaBackend::buildFormFactors(const PatchMesh& mesh,
         if (!created) return created.error();
     }
 
-    PairKernelParams params{};
-    params.patches = address(state.patches);
-    params.nodes = address(state.nodes);
-    params.triangles = address(state.triangles);
-    params.method = detail::methodConstant(settings.method);
-    params.level = settings.quadratureLevel;
-    params.seed = detail::seed32(settings.seed);  // as the cpu, reference and vulkan backends
-    params.clearance = kEndClearanceRelative;
+    const PairKernelParams params =
+        packPairKernelParams(settings, state.patches, state.nodes, state.triangles);
 
     const PairKernelBatch evaluate = [&](std::span<const PairIndex> pairs, int rays,
                                          std::span<PairFactors> out) -> Expected<void> {

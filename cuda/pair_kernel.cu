@@ -1,10 +1,11 @@
-// The pair kernel for CUDA (DESIGN.md section 8): one thread per unordered pair; the body only
-// unpacks its pair and calls the shared pairEntry (src/shared/pair_kernel.h), the function the
-// reference backend runs on the CPU and shaders/form_factors.comp.glsl on Vulkan. All its
-// arithmetic is in src/shared/. Registers and stack per architecture: -Xptxas -v at build.
+// The pair kernel for CUDA (DESIGN.md section 8): one thread per unordered pair, running
+// evaluatePairSlot (cuda/pair_slot.h: unpack the pair, call the shared pairEntry of
+// src/shared/pair_kernel.h, the function the reference backend runs on the CPU and
+// shaders/form_factors.comp.glsl on Vulkan). All its arithmetic is in src/shared/. Registers and
+// stack per architecture: -Xptxas -v at build.
 #include "cuda/pair_kernel.h"
+#include "cuda/pair_slot.h"
 #include "shared/config.h"
-#include "shared/pair_kernel.h"
 
 namespace daisy {
 namespace {
@@ -13,15 +14,7 @@ using namespace daisy::shared;
 
 __global__ void __launch_bounds__(DAISY_PAIR_WORKGROUP_SIZE) pairKernel(PairKernelParams params) {
     const uint k = blockIdx.x * blockDim.x + threadIdx.x;
-    if (k >= params.pairCount) return;
-    const uint slot = params.pairOffset + k;
-    const PairIndex pair = reinterpret_cast<const PairIndex*>(params.pairs)[slot];
-    const PatchGeometry* patches = reinterpret_cast<const PatchGeometry*>(params.patches);
-    const BvhNodeBuffer nodes{reinterpret_cast<const BvhNode*>(params.nodes)};
-    const BvhTriangleBuffer triangles{reinterpret_cast<const BvhTriangle*>(params.triangles)};
-    reinterpret_cast<PairFactors*>(params.results)[slot] =
-        pairEntry(pair.i, pair.j, patches[pair.i], patches[pair.j], params.method, params.level,
-                  params.rays, params.seed, params.clearance, nodes, triangles);
+    if (k < params.pairCount) evaluatePairSlot(params, k);
 }
 
 }  // namespace
