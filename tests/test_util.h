@@ -95,6 +95,13 @@ inline bool vulkanRequired() {
     return value && std::strcmp(value, "1") == 0;
 }
 
+// DAISY_REQUIRE_CUDA=1 (what tools/gpu_check.sh sets on an NVIDIA machine): the cuda backend
+// must run, so a test that would skip for want of a CUDA device fails instead.
+inline bool cudaRequired() {
+    const char* value = std::getenv("DAISY_REQUIRE_CUDA");
+    return value && std::strcmp(value, "1") == 0;
+}
+
 }  // namespace daisy::test
 
 // Skips the test with `reason` for want of a usable Vulkan device; fails it instead under
@@ -105,4 +112,14 @@ inline bool vulkanRequired() {
             FAIL() << "DAISY_REQUIRE_VULKAN=1 but the vulkan backend cannot run: " << (reason); \
         }                                                                                       \
         GTEST_SKIP() << "no usable Vulkan device: " << (reason);                                \
+    } while (0)
+
+// Skips the test with `reason` for want of a usable CUDA device (or a build without nvcc); fails
+// it instead under DAISY_REQUIRE_CUDA=1.
+#define DAISY_SKIP_WITHOUT_CUDA(reason)                                                     \
+    do {                                                                                    \
+        if (::daisy::test::cudaRequired()) {                                                \
+            FAIL() << "DAISY_REQUIRE_CUDA=1 but the cuda backend cannot run: " << (reason); \
+        }                                                                                   \
+        GTEST_SKIP() << "no usable CUDA device: " << (reason);                              \
     } while (0)

@@ -11,7 +11,7 @@ target=${1:-all}
 seconds=${2:-120}
 sanitize="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-    -DDAISY_BUILD_FUZZERS=ON -DBUILD_TESTING=OFF -DDAISY_ENABLE_VULKAN=OFF \
+    -DDAISY_BUILD_FUZZERS=ON -DBUILD_TESTING=OFF -DDAISY_ENABLE_VULKAN=OFF -DDAISY_ENABLE_CUDA=OFF \
     -DDAISY_BUILD_VIEWER=OFF -DCMAKE_CXX_FLAGS="$sanitize -fsanitize=fuzzer-no-link" \
     -DCMAKE_EXE_LINKER_FLAGS="$sanitize" >/dev/null
 python3 tools/make_fuzz_corpus.py

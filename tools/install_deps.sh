@@ -2,6 +2,8 @@
 # Installs every Debian package DaisyRiot builds, tests and runs with. Idempotent and
 # non-interactive: packages already present are left alone, and `apt-get update` runs only when
 # something is missing. Nothing is vendored and nothing is downloaded at build time.
+# Not from here: the CUDA toolkit (nvcc 13, NVIDIA's packages; CI has it in /usr/local/cuda). The
+# cuda backend builds when CMake finds nvcc and is left out otherwise (docs/gpu.md).
 set -euo pipefail
 
 packages=(

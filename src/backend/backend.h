@@ -2,9 +2,9 @@
 // Backends build the view-factor matrix (DESIGN.md section 8): `cpu` (Embree rays, TBB threads),
 // `reference` (the shared kernels of src/shared/ on the CPU over our flat BVH: the oracle for the
 // GPU backends), `vulkan` (the same kernels as compute shaders; only in binaries built with
-// DAISY_ENABLE_VULKAN, and only where a Vulkan 1.2 device exists) and `cuda` (lands with its
-// issue). The list of backends and `--backend auto` live in pipeline/backend_registry.h, above
-// every backend library.
+// DAISY_ENABLE_VULKAN, and only where a Vulkan 1.2 device exists) and `cuda` (the same kernel
+// under nvcc, cuda/; only where CMake found nvcc and a CUDA device exists). The list of backends
+// and `--backend auto` live in pipeline/backend_registry.h, above every backend library.
 #include <memory>
 #include <string>
 

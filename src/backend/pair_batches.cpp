@@ -45,6 +45,13 @@ std::vector<shared::PatchGeometry> kernelPatches(const PatchMesh& mesh) {
     return detail::kernelGeometry(mesh);
 }
 
+uint64_t pairWork(const FormFactorSettings& settings) {
+    const uint64_t points = settings.method == FormFactorMethod::Nusselt
+        ? 1
+        : uint64_t(1) << (2 * std::clamp(settings.quadratureLevel, 0, 15));
+    return uint64_t(std::max(settings.raysPerPair, 0)) + points;
+}
+
 Expected<FormFactorResult> buildFromPairBatches(const PatchMesh& mesh,
                                                 const FormFactorSettings& settings,
                                                 const char* backendName, std::size_t batchPairs,

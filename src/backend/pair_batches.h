@@ -6,6 +6,7 @@
 // model, the CSR assembly and the memory checks. Only the pairs that need the kernel reach it:
 // clear-shaft pairs with rays = 0, the rest with the K rays.
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <span>
 
@@ -23,6 +24,10 @@ using PairKernelBatch = std::function<Expected<void>(std::span<const shared::Pai
 
 // The patches as the kernels see them (float corners, normal and area from the double mesh).
 std::vector<shared::PatchGeometry> kernelPatches(const PatchMesh& mesh);
+
+// Estimated work of one pair for sizing GPU launches: its shadow segments plus its quadrature
+// points (4^L on the smaller patch; 1 for nusselt).
+uint64_t pairWork(const FormFactorSettings& settings);
 
 // Builds F with the driver, the kernel evaluating batches of at most batchPairs pairs (sized for
 // the device). Only riemann, nusselt and hybrid are pair methods; stochastic is refused with a

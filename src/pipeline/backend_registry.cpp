@@ -5,6 +5,9 @@
 #if DAISY_HAVE_VULKAN
 #include "vulkan/vulkan_backend.h"
 #endif
+#if DAISY_HAVE_CUDA
+#include "cuda/cuda_backend.h"
+#endif
 
 namespace daisy {
 namespace {
@@ -23,6 +26,12 @@ Expected<std::unique_ptr<Backend>> makeVulkan(const BackendOptions& options) {
 }
 #endif
 
+#if DAISY_HAVE_CUDA
+Expected<std::unique_ptr<Backend>> makeCuda(const BackendOptions& options) {
+    return makeCudaBackend(options);
+}
+#endif
+
 const BackendEntry kEntries[] = {
     {"cpu", "cpu", true, "", makeCpu},
     {"reference", "kernel", true, "", makeReference},
@@ -31,7 +40,12 @@ const BackendEntry kEntries[] = {
 #else
     {"vulkan", "kernel", false, "configure with -DDAISY_ENABLE_VULKAN=ON", nullptr},
 #endif
-    {"cuda", "kernel", false, "the cuda backend has not landed yet", nullptr},
+#if DAISY_HAVE_CUDA
+    {"cuda", "kernel", true, "", makeCuda},
+#else
+    {"cuda", "kernel", false, "configure where CMake finds nvcc, or with -DDAISY_ENABLE_CUDA=ON",
+     nullptr},
+#endif
 };
 
 const BackendEntry* findEntry(const std::string& name) {
@@ -67,6 +81,9 @@ std::string backendFamily(const std::string& name) {
 
 std::string resolveBackendName(const std::string& name) {
     if (name != "auto") return name;
+#if DAISY_HAVE_CUDA
+    if (cudaDevicePresent()) return "cuda";
+#endif
 #if DAISY_HAVE_VULKAN
     if (vulkanHardwareGpuPresent()) return "vulkan";
 #endif

@@ -1,8 +1,8 @@
 #pragma once
 // The backend registry (DESIGN.md section 8): the one list of form-factor backends, above every
 // backend library so that none includes another (cpu and reference live in src/backend/, vulkan
-// in the optional daisy_vulkan library, cuda in daisy_cuda when it lands). `auto` picks cuda on
-// an NVIDIA device, then vulkan on a discrete or integrated GPU, then cpu.
+// in the optional daisy_vulkan library, cuda in the optional daisy_cuda library). `auto` picks cuda
+// on an NVIDIA device, then vulkan on a discrete or integrated GPU, then cpu.
 #include <memory>
 #include <span>
 #include <string>

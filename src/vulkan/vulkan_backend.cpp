@@ -42,15 +42,6 @@ constexpr std::size_t kBatchPairs = std::size_t(1) << 20;
 // the 2-core benchmark machine (docs/performance.md), so a dispatch takes it seconds.
 constexpr uint64_t kDispatchWork = uint64_t(1) << 22;
 
-// Estimated work of one pair: its shadow segments plus its quadrature points (4^L on the smaller
-// patch; 1 for nusselt).
-uint64_t pairWork(const FormFactorSettings& settings) {
-    const uint64_t points = settings.method == FormFactorMethod::Nusselt
-        ? 1
-        : uint64_t(1) << (2 * std::clamp(settings.quadratureLevel, 0, 15));
-    return uint64_t(std::max(settings.raysPerPair, 0)) + points;
-}
-
 class VulkanBackend : public Backend {
 public:
     VulkanBackend(VulkanContext context, const VulkanBackendLimits& limits)

@@ -64,12 +64,25 @@ TEST(FormFactorsCli, RefusesOverMaxMemory) {
     EXPECT_FALSE(std::filesystem::exists(matrixPath));
 }
 
-TEST(FormFactorsCli, CudaBackendNotBuiltYetIsExitTwo) {
-    const RunResult run =
-        runDaisy("formfactors " + kCornellBox + " -o /tmp/unused.mtx --quiet --backend cuda");
+// --backend cuda where it cannot run (no nvcc at build time; no driver or device; --device 99):
+// exit status 2, one line naming the backend and why, and no output file.
+TEST(FormFactorsCli, CudaWithoutADeviceIsOneLineExitTwo) {
+    const auto dir = test::testTempDir();
+    const auto matrixPath = dir / "F.mtx";
+    const RunResult run = runDaisy("formfactors " + kCornellBox + " -o " + matrixPath.string() +
+                                   " --quiet --backend cuda --device 99");
     EXPECT_EQ(run.status, 2) << run.output;
+    EXPECT_EQ(std::count(run.output.begin(), run.output.end(), '\n'), 1) << run.output;
+    EXPECT_NE(run.output.find("--backend cuda: "), std::string::npos) << run.output;
+#if DAISY_HAVE_CUDA
+    EXPECT_TRUE(run.output.find("no CUDA device") != std::string::npos ||
+                run.output.find("--device 99: there is no CUDA device 99") != std::string::npos)
+        << run.output;
+#else
     EXPECT_NE(run.output.find("backend 'cuda' is not built into this binary"), std::string::npos)
         << run.output;
+#endif
+    EXPECT_FALSE(std::filesystem::exists(matrixPath));
 }
 
 // An unwritable output is bad usage (exit 2) found before any work, naming the path, with no

@@ -1,6 +1,7 @@
 // `daisy validate` end to end (DESIGN.md sections 8, 9): exit status 0 when the backends agree,
 // 1 over tolerance, 2 for bad usage, bad input or a backend that cannot run. The runs that need
-// the vulkan backend skip without a Vulkan device (fail under DAISY_REQUIRE_VULKAN=1, as in CI).
+// the vulkan backend skip without a Vulkan device (fail under DAISY_REQUIRE_VULKAN=1, as in CI),
+// those that need the cuda backend without a CUDA device (fail under DAISY_REQUIRE_CUDA=1).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -76,6 +77,28 @@ TEST(ValidateCli, StochasticIsStatusTwo) {
         runDaisy("validate " + kCornellBox + " --backend vulkan --method stochastic");
     EXPECT_EQ(run.status, 2) << run.output;
     EXPECT_NE(run.output.find("stochastic"), std::string::npos) << run.output;
+}
+
+// What a user on an NVIDIA machine runs (docs/gpu.md): cuda against the reference backend, then
+// against cpu. Skips without a CUDA device (fails under DAISY_REQUIRE_CUDA=1).
+TEST(ValidateCli, CudaAgreesWithReference) {
+    auto backend = makeBackend("cuda");
+    if (!backend) DAISY_SKIP_WITHOUT_CUDA(backend.error().message);
+    RunResult run =
+        runDaisy("validate " + kCornellBox + " --backend cuda --against reference --worst 3");
+    EXPECT_EQ(run.status, 0) << run.output;
+    EXPECT_NE(run.output.find("validate: cuda against reference"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find("within tolerance"), std::string::npos) << run.output;
+    run = runDaisy("validate " + kCornellBox + " --backend cuda --against cpu --rtol 0 --atol 0");
+    EXPECT_EQ(run.status, 1) << run.output;
+    EXPECT_NE(run.output.find("validate: cuda against cpu"), std::string::npos) << run.output;
+}
+
+// Without a device (or with --device 99 on a one-GPU box) validate cannot run: status 2.
+TEST(ValidateCli, CudaWithoutADeviceIsStatusTwo) {
+    const RunResult run = runDaisy("validate " + kCornellBox + " --backend cuda --device 99");
+    EXPECT_EQ(run.status, 2) << run.output;
+    EXPECT_NE(run.output.find("--backend cuda"), std::string::npos) << run.output;
 }
 
 }  // namespace

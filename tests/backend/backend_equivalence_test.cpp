@@ -58,6 +58,8 @@ protected:
         auto backend = makeBackend(GetParam());
         if (!backend && std::string(GetParam()) == "vulkan")
             DAISY_SKIP_WITHOUT_VULKAN(backend.error().message);
+        if (!backend && std::string(GetParam()) == "cuda")
+            DAISY_SKIP_WITHOUT_CUDA(backend.error().message);
         ASSERT_TRUE(backend.ok()) << backend.error().message;
         backend_ = std::move(*backend);
     }
@@ -128,7 +130,7 @@ TEST_P(BackendEquivalence, OccluderHalfwayHidesExactlyHalf) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, BackendEquivalence,
-                         testing::Values("cpu", "reference", "vulkan"),
+                         testing::Values("cpu", "reference", "vulkan", "cuda"),
                          [](const testing::TestParamInfo<const char*>& param) {
                              return std::string(param.param);
                          });

@@ -60,13 +60,14 @@ protected:
         const std::string backend = std::get<1>(GetParam());
         auto made = makeBackend(backend);
         if (!made && backend == "vulkan") DAISY_SKIP_WITHOUT_VULKAN(made.error().message);
+        if (!made && backend == "cuda") DAISY_SKIP_WITHOUT_CUDA(made.error().message);
         ASSERT_TRUE(made.ok()) << made.error().message;
     }
 };
 
 // Culling with the cost model against the oracle, entry by entry: equal up to kernel rounding
-// (1e-4 relative: vulkan's float arithmetic differs from the CPU's in the last bits) but for
-// segments that graze an edge, on at most 1% of entries, nearly all within 2 of the 16 rays'
+// (1e-4 relative: the GPU backends' float arithmetic differs from the CPU's in the last bits) but
+// for segments that graze an edge, on at most 1% of entries, nearly all within 2 of the 16 rays'
 // worth (F_unoccluded / 8). Boxes standing on the floor (scene (d)) have pairs whose segments run
 // through the contact edge, where Embree and our traversal decide differently: at most 4 entries
 // (2 pairs) or 1 in 10^4 may differ by more.
@@ -100,7 +101,7 @@ INSTANTIATE_TEST_SUITE_P(SmallScenes, FormFactorFamily,
                          testing::Combine(testing::Values("blacklight_small", "blender_room_small",
                                                           "open_small", "cluttered_small",
                                                           "far_triangle_small"),
-                                          testing::Values("cpu", "reference", "vulkan")),
+                                          testing::Values("cpu", "reference", "vulkan", "cuda")),
                          [](const testing::TestParamInfo<FamilyCase>& param) {
                              return std::string(std::get<0>(param.param)) + "_" +
                                  std::get<1>(param.param);
@@ -112,6 +113,8 @@ protected:
         auto made = makeBackend(GetParam());
         if (!made && std::string(GetParam()) == "vulkan")
             DAISY_SKIP_WITHOUT_VULKAN(made.error().message);
+        if (!made && std::string(GetParam()) == "cuda")
+            DAISY_SKIP_WITHOUT_CUDA(made.error().message);
         ASSERT_TRUE(made.ok()) << made.error().message;
     }
 };
@@ -167,7 +170,7 @@ TEST_P(FormFactorFamilyBackend, FarTriangleKeepsTheNearbyPairs) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, FormFactorFamilyBackend,
-                         testing::Values("cpu", "reference", "vulkan"),
+                         testing::Values("cpu", "reference", "vulkan", "cuda"),
                          [](const testing::TestParamInfo<const char*>& param) {
                              return std::string(param.param);
                          });
