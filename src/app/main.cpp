@@ -44,6 +44,12 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--camera", render.camera, "Camera name or index");
     renderCmd->add_option("--spp", render.samplesPerPixel, "Samples per pixel")
         ->check(CLI::Range(1, 4096));
+    renderCmd
+        ->add_option("--edge-spp", render.edgeSamplesPerPixel,
+                     "Samples per pixel on silhouettes, creases and material boundaries "
+                     "(radiosity; 0 = --spp everywhere)")
+        ->check(CLI::Range(0, 4096))
+        ->capture_default_str();
     renderCmd->add_option("--exposure", render.exposure, "Exposure in EV, or auto")
         ->check(CLI::Validator(
             [](std::string& text) {

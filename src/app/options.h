@@ -53,6 +53,9 @@ struct RenderOptions {
     int height = 0;  // 0 = width / the camera's aspect ratio (4:3 when it has none)
     std::string camera;  // name or index; empty = first camera or automatic framing
     int samplesPerPixel = 1;
+    // samples of the pixels on a silhouette, crease or material boundary (radiosity only:
+    // image/edge_sampling.h); 0 = every pixel takes samplesPerPixel
+    int edgeSamplesPerPixel = 16;
     std::string exposure = "auto";  // "auto" or a fixed EV
     bool spectralExr = false;  // .exr: one channel per wavelength sample (Fichet et al. 2021)
     std::string background = "0,0,0";  // R,G,B of missed rays, linear sRGB in [0, 1]
