@@ -151,8 +151,8 @@ int main(int argc, char** argv) {
     benchCmd->add_option("-o,--output", bench.outputPath, "CSV of the results");
     benchCmd
         ->add_option("--reference", bench.reference,
-                     "What error is measured against: daisy (a converged fine solution) or path "
-                     "(the path-traced reference)")
+                     "What error is measured against: path (the path-traced reference) or daisy "
+                     "(the settings sweep against a converged fine solution)")
         ->check(CLI::IsMember({"daisy", "path"}))
         ->capture_default_str();
     benchCmd

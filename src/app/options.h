@@ -99,9 +99,9 @@ struct BenchOptions {
     bool stress = false;  // the numerical stress suite instead of the time/error sweep
     bool quick = false;  // reduced sizes (what ctest runs)
     std::string outputPath;  // CSV
-    // daisy: against a converged high-setting daisy solution (bench_sweep.h); path: against
-    // the path-traced reference (bench_path.h)
-    std::string reference = "daisy";
+    // path (the default): against the path-traced reference (bench_path.h); daisy: the
+    // settings sweep against a converged high-setting daisy solution (bench_sweep.h)
+    std::string reference = "path";
     int referenceSpp = 4096;  // samples per pixel of the path-traced reference
 };
 
