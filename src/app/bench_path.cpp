@@ -364,7 +364,7 @@ int runPathBench(const CommonOptions& options, const BenchOptions& bench) {
     chart.yLabel = "relative RMS luminance error (%)";
     chart.referenceY = 100 * kTargetError;
     chart.referenceLabel = "target 2%";
-    chart.seriesNames = {"path tracer", "radiosity", "+ direct gather", "+ edge supersampling"};
+    chart.seriesNames = {"path tracer", "radiosity", "+ direct gather", "+ edge AA"};
     for (const Row& row : rows) {
         const int series = row.kind == "path"                      ? 0
             : row.label.find("at edges") != std::string::npos      ? 3
