@@ -7,13 +7,14 @@
 // - The path tracer's error-time curve: fresh runs (seed 7, independent of the reference) at
 //   1, 4, 16, 64 and 256 spp.
 // - The radiosity rows: the automatic patch size (or --subdivide; labelled "auto") and two finer
-//   ones (edge / 1.5, / 2), each with
-//   --gather none and --gather direct at 1 and 4 spp; a row's time is the whole pipeline
-//   (patches, F without the cache, solve, image).
+//   ones (edge / 1.5, / 2), each with --gather none at 1 spp, --gather direct at 1 and 4 spp
+//   without edge supersampling, and --gather direct at 1 spp with 16 (`daisy render`'s
+//   default) and 64 samples at edges (image/edge_sampling.h); a row's time is the whole
+//   pipeline (patches, F without the cache, solve, image).
 // Error (bench/image_error.h): relative RMS luminance with the reference's own noise taken out,
 // and mean CIE76 / CIEDE2000 as displayed at the reference's exposure, emitter pixels and a
 // 2-pixel neighbourhood left out. Output: the CSV, a log-log chart of both curves, the reference
-// image and the error images of the default rows.
+// image and the error images of the automatic size's smooth, gathered and default images.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -44,9 +45,19 @@ namespace {
 constexpr uint32_t kReferenceSeed = 1;
 constexpr uint32_t kCurveSeed = 7;
 constexpr double kTargetError = 0.02;  // the 2% relative RMS luminance
-// The radiosity rows' images: final gather and samples per pixel.
-constexpr std::pair<GatherMode, int> kImageSettings[] = {
-    {GatherMode::None, 1}, {GatherMode::Direct, 1}, {GatherMode::None, 4}, {GatherMode::Direct, 4}};
+// The radiosity rows' images: final gather, samples per pixel and at edges (0 = uniform).
+struct ImageSetting {
+    GatherMode gather;
+    int samples;
+    int edgeSamples;
+};
+// The first is the smooth image (the viewer's), the fourth `daisy render`'s default.
+constexpr ImageSetting kImageSettings[] = {{GatherMode::None, 1, 0},
+                                           {GatherMode::Direct, 1, 0},
+                                           {GatherMode::Direct, 4, 0},
+                                           {GatherMode::Direct, 1, 16},
+                                           {GatherMode::Direct, 1, 64}};
+constexpr std::size_t kDefaultImage = 3;
 
 struct Reference {
     Image xyz;  // 3 channels
@@ -285,11 +296,13 @@ int runPathBench(const CommonOptions& options, const BenchOptions& bench) {
             return 1;
         }
         const double pipelineSeconds = timer.seconds();
-        for (const auto& [mode, samples] : kImageSettings) {
+        for (const ImageSetting& setting : kImageSettings) {
+            const auto [mode, samples, edgeSamples] = setting;
             const Timer imageTimer;
             DirectLightSettings direct;
             direct.seed = static_cast<uint32_t>(options.seed);
             image.samplesPerPixel = samples;
+            image.edgeSamplesPerPixel = edgeSamples;
             auto rendered = renderRadiosityImage(*session, camera, image, mode, direct, false);
             if (!rendered) {
                 logError(concat(options.scenePath, ": ", rendered.error().message));
@@ -297,7 +310,8 @@ int runPathBench(const CommonOptions& options, const BenchOptions& bench) {
             }
             Row row{"radiosity",
                     concat(divisor == 1 ? std::string("auto") : concat("edge/", divisor),
-                           ", gather ", gatherModeName(mode), ", ", samples, " spp"),
+                           ", gather ", gatherModeName(mode), ", ", samples, " spp",
+                           edgeSamples > 0 ? concat(" (", edgeSamples, " at edges)") : ""),
                     pipelineSeconds + imageTimer.seconds(),
                     session->patches().patchCount(),
                     {}};
@@ -305,9 +319,15 @@ int runPathBench(const CommonOptions& options, const BenchOptions& bench) {
                 compareImages(*rendered, reference.xyz, *mask, exposure, &reference.varianceY);
             report(row);
             rows.push_back(row);
-            if (divisor == 1 && samples == 1) {
+            // Error images of the automatic size: the smooth image, the gather at 1 spp
+            // without edge supersampling, and the default.
+            const std::size_t which = std::size_t(&setting - kImageSettings);
+            if (divisor == 1 && (which <= 1 || which == kDefaultImage)) {
                 const std::string errorPath =
-                    stemPath(csvPath, concat(".error-gather-", gatherModeName(mode), ".png"));
+                    stemPath(csvPath,
+                             which == kDefaultImage
+                                 ? std::string(".error-default.png")
+                                 : concat(".error-gather-", gatherModeName(mode), ".png"));
                 const std::vector<uint8_t> pixels =
                     errorImageRgb8(*rendered, reference.xyz, *mask, 0.1);
                 if (auto written = writePng(errorPath, size, size, pixels); !written)
@@ -344,9 +364,10 @@ int runPathBench(const CommonOptions& options, const BenchOptions& bench) {
     chart.yLabel = "relative RMS luminance error (%)";
     chart.referenceY = 100 * kTargetError;
     chart.referenceLabel = "target 2%";
-    chart.seriesNames = {"path tracer", "radiosity", "+ direct gather"};
+    chart.seriesNames = {"path tracer", "radiosity", "+ direct gather", "+ edge AA"};
     for (const Row& row : rows) {
         const int series = row.kind == "path"                      ? 0
+            : row.label.find("at edges") != std::string::npos      ? 3
             : row.label.find("gather direct") != std::string::npos ? 2
                                                                    : 1;
         chart.points.push_back(

@@ -44,6 +44,12 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--camera", render.camera, "Camera name or index");
     renderCmd->add_option("--spp", render.samplesPerPixel, "Samples per pixel")
         ->check(CLI::Range(1, 4096));
+    renderCmd
+        ->add_option("--edge-spp", render.edgeSamplesPerPixel,
+                     "Samples per pixel on silhouettes, creases and material boundaries "
+                     "(radiosity; 0 = --spp everywhere)")
+        ->check(CLI::Range(0, 4096))
+        ->capture_default_str();
     renderCmd->add_option("--exposure", render.exposure, "Exposure in EV, or auto")
         ->check(CLI::Validator(
             [](std::string& text) {
@@ -145,8 +151,8 @@ int main(int argc, char** argv) {
     benchCmd->add_option("-o,--output", bench.outputPath, "CSV of the results");
     benchCmd
         ->add_option("--reference", bench.reference,
-                     "What error is measured against: daisy (a converged fine solution) or path "
-                     "(the path-traced reference)")
+                     "What error is measured against: path (the path-traced reference) or daisy "
+                     "(the settings sweep against a converged fine solution)")
         ->check(CLI::IsMember({"daisy", "path"}))
         ->capture_default_str();
     benchCmd

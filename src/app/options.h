@@ -53,6 +53,9 @@ struct RenderOptions {
     int height = 0;  // 0 = width / the camera's aspect ratio (4:3 when it has none)
     std::string camera;  // name or index; empty = first camera or automatic framing
     int samplesPerPixel = 1;
+    // samples of the pixels on a silhouette, crease or material boundary (radiosity only:
+    // image/edge_sampling.h); 0 = every pixel takes samplesPerPixel
+    int edgeSamplesPerPixel = 16;
     std::string exposure = "auto";  // "auto" or a fixed EV
     bool spectralExr = false;  // .exr: one channel per wavelength sample (Fichet et al. 2021)
     std::string background = "0,0,0";  // R,G,B of missed rays, linear sRGB in [0, 1]
@@ -96,9 +99,9 @@ struct BenchOptions {
     bool stress = false;  // the numerical stress suite instead of the time/error sweep
     bool quick = false;  // reduced sizes (what ctest runs)
     std::string outputPath;  // CSV
-    // daisy: against a converged high-setting daisy solution (bench_sweep.h); path: against
-    // the path-traced reference (bench_path.h)
-    std::string reference = "daisy";
+    // path (the default): against the path-traced reference (bench_path.h); daisy: the
+    // settings sweep against a converged high-setting daisy solution (bench_sweep.h)
+    std::string reference = "path";
     int referenceSpp = 4096;  // samples per pixel of the path-traced reference
 };
 

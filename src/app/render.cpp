@@ -236,6 +236,7 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     settings.width = width;
     settings.height = height;
     settings.samplesPerPixel = render.samplesPerPixel;
+    settings.edgeSamplesPerPixel = render.edgeSamplesPerPixel;
     settings.threads = options.threads;
     settings.maxMemoryBytes = options.maxMemoryBytes;
     // The image's memory is known now: refuse it before the view factors, not after.
@@ -287,8 +288,13 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     const SessionTimings& t = s.timings();
     const std::string exposureText = exposureSummary(format, *exposure, *scale);
     logInfo(concat("render: wrote ", render.outputPath, " (", width, " x ", height, ", ",
-                   render.samplesPerPixel, " spp, ", cameraName, ", gather ", render.gather, ", ",
-                   exposureText, spectral ? concat(", ", m, " spectral channels") : "", ")"));
+                   render.samplesPerPixel, " spp",
+                   render.edgeSamplesPerPixel > render.samplesPerPixel
+                       ? concat(" (", render.edgeSamplesPerPixel, " at ",
+                                formatCount(imageTimes.edgePixels), " edge pixels)")
+                       : std::string(),
+                   ", ", cameraName, ", gather ", render.gather, ", ", exposureText,
+                   spectral ? concat(", ", m, " spectral channels") : "", ")"));
     logInfo(concat(
         "  time: load ", formatDuration(t.loadSeconds), ", mesh ", formatDuration(t.meshSeconds),
         ", view factors ", formatDuration(t.viewFactorSeconds),

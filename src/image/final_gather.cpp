@@ -187,12 +187,26 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
     const int xyzChannel = spectral ? int(m) : 0;
     Image image(settings.width, settings.height, channels);
     if (lights.empty()) return image;
-    const int side = samplesPerSide(settings.samplesPerPixel);
-    const int samples = side * side;
-    const std::size_t rowSamples = std::size_t(settings.width) * samples;
+    if (!settings.pixelSides.empty() &&
+        settings.pixelSides.size() != std::size_t(settings.width) * settings.height) {
+        return Error{concat("final gather: ", settings.pixelSides.size(),
+                            " per-pixel sample counts for ", settings.width, " x ", settings.height,
+                            " pixels")};
+    }
+    int minSide = samplesPerSide(settings.samplesPerPixel), maxSide = minSide;
+    if (!settings.pixelSides.empty()) {
+        const auto [lo, hi] =
+            std::minmax_element(settings.pixelSides.begin(), settings.pixelSides.end());
+        minSide = std::max(1, int(*lo));
+        maxSide = int(*hi);
+    }
+    const std::size_t rowSamples = std::size_t(settings.width) * maxSide * maxSide;
     // --gather-rays is per pixel: shared out over its samples, at least one each; each sample
     // draws its segments over all lights.
-    const int k = std::max(1, (direct.shadowRays + samples - 1) / samples);
+    const auto raysPerSample = [&](int samples) {
+        return std::max(1, (direct.shadowRays + samples - 1) / samples);
+    };
+    const int maxK = raysPerSample(minSide * minSide);
     const uint32_t imageSeed = shared::pcgHash(direct.seed ^ 0x2545f491u);
     // Few lights: the exact factor of each, per sample. Many (a tube of 176 triangles): a cheap
     // approximation picks the lights and only the picked ones get the exact factor.
@@ -202,30 +216,36 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
         std::vector<Ray> rays(rowSamples);
         std::vector<SurfaceHit> hits(rowSamples);
         SegmentArrays segments;
-        segments.resize(std::size_t(k));
+        segments.resize(std::size_t(maxK));
         std::vector<uint8_t> blocked(segments.size());
         std::vector<float> factor(lights.size());
         std::vector<double> cdf(lights.size());
         std::vector<int> picks(lights.size());
-        std::vector<uint32_t> chosen(static_cast<std::size_t>(k));
+        std::vector<uint32_t> chosen(static_cast<std::size_t>(maxK));
         std::vector<double> irradiance(m), reflected(m), sum(static_cast<std::size_t>(channels));
         std::vector<double> sampleValues(std::size_t(xyzChannel) + 3);
         for (int y = rows.begin(); y != rows.end(); ++y) {
             std::size_t r = 0;
             for (int x = 0; x < settings.width; ++x) {
-                for (int s = 0; s < samples; ++s) {
+                const int side = pixelSide(settings, x, y);
+                for (int s = 0; s < side * side; ++s) {
                     const auto [ox, oy] = stratumOffset(s, side);
                     rays[r++] = primaryRay(camera, settings.width, settings.height, x + ox, y + oy);
                 }
             }
-            tracer.closestSurfaceHits(rays, hits);
+            const std::size_t rowCount = r;
+            tracer.closestSurfaceHits(std::span<const Ray>(rays.data(), rowCount),
+                                      std::span<SurfaceHit>(hits.data(), rowCount));
             if (shader != nullptr) {
-                for (std::size_t i = 0; i < rowSamples; ++i) {
+                for (std::size_t i = 0; i < rowCount; ++i) {
                     if (hits[i].patch != kNoPatch) shader->resolve(rays[i], hits[i]);
                 }
             }
             r = 0;
             for (int x = 0; x < settings.width; ++x) {
+                const int side = pixelSide(settings, x, y);
+                const int samples = side * side;
+                const int k = raysPerSample(samples);
                 std::fill(sum.begin(), sum.end(), 0.0);
                 // The pixel's samples share one stratification of the light draw: pick q of
                 // sample s takes stratum permute(s k + q) of samples x k (a per-pixel random
@@ -236,6 +256,8 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                     shared::pcgHash(uint32_t(y) * uint32_t(settings.width) + uint32_t(x)));
                 std::fill(picks.begin(), picks.end(), 0);
                 const int strata = samples * k;
+                uint32_t weightsPatch = kNoPatch;  // the patch factor and cdf were made for
+                double total = 0;
                 for (int s = 0; s < samples; ++s, ++r) {
                     const SurfaceHit& hit = hits[r];
                     if (hit.patch == kNoPatch) continue;
@@ -254,17 +276,27 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                     // the k shadow segments are drawn from (stratified over its CDF).
                     const uint32_t sampleSeed = shared::pcgHash(
                         imageSeed ^
-                        shared::pcgHash(uint32_t(y) * uint32_t(settings.width) * uint32_t(samples) +
-                                        uint32_t(x * samples + s)));
-                    double total = 0;
-                    for (std::size_t l = 0; l < lights.size(); ++l) {
-                        factor[l] = exactWeights
-                            ? shared::pointToTriangleFactor(xf, nf, lights[l].geometry)
-                            : approximateFactor(lights[l].geometry, xf, nf);
-                        total += factor[l] > 0 ? double(factor[l]) * lights[l].power : 0.0;
-                        cdf[l] = total;
+                        shared::pcgHash((uint32_t(y) * uint32_t(settings.width) + uint32_t(x)) *
+                                            uint32_t(samples) +
+                                        uint32_t(s)));
+                    // With approximate weights, the samples of one pixel on one patch share
+                    // the distribution of the first of them (a fraction of a pixel away: still
+                    // importance sampling, each segment weighted by the exact factor over the
+                    // shared weight), so a supersampled edge pixel costs a few light loops,
+                    // not one per sample.
+                    if (exactWeights || p != weightsPatch) {
+                        total = 0;
+                        for (std::size_t l = 0; l < lights.size(); ++l) {
+                            factor[l] = exactWeights
+                                ? shared::pointToTriangleFactor(xf, nf, lights[l].geometry)
+                                : approximateFactor(lights[l].geometry, xf, nf);
+                            total += factor[l] > 0 ? double(factor[l]) * lights[l].power : 0.0;
+                            cdf[l] = total;
+                        }
+                        weightsPatch = p;
                     }
                     if (total <= 0) continue;
+                    segments.resize(std::size_t(k));
                     for (int q = 0; q < k; ++q) {
                         const uint32_t stratum =
                             shared::permuteIndex(uint32_t(s * k + q), uint32_t(strata), pixelSeed);
@@ -283,7 +315,7 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                         const shared::vec3 end = e + (xf - e) * kLightClearance;
                         segments.set(std::size_t(q), xf.x, xf.y, xf.z, end.x, end.y, end.z);
                     }
-                    tracer.occluded(segments, blocked);
+                    tracer.occluded(segments, std::span<uint8_t>(blocked.data(), std::size_t(k)));
                     // H = sum_l E_l F_l V_l, each segment an estimate of E_l F_l / p_l with
                     // p_l = F_l P_l / total: E_l total / (P_l k) when open.
                     std::fill(irradiance.begin(), irradiance.end(), 0.0);

@@ -53,7 +53,8 @@ std::vector<float> radiosityChannels(const WavelengthSet& set, std::span<const d
                                      bool spectral);
 
 // The direct term M_i H(x) / pi per pixel, on the renderer's sample positions (stratum centres,
-// image/pixel_samples.h) and box filter, in the channels of radiosityChannels (coverage 0).
+// image/pixel_samples.h, per pixel settings.pixelSides when given: edge_sampling.h) and box
+// filter, in the channels of radiosityChannels (coverage 0).
 // Lights are the emitting triangles of scene.mesh. Fails (no crash) on what renderCornerValues
 // refuses. `shader` (renderCornerValues's) moves hits to back patches and puts the texture
 // detail on each sample's direct light.

@@ -1,7 +1,11 @@
 #include "image/radiosity_image.h"
 
+#include <algorithm>
+
 #include "core/strings.h"
 #include "core/timer.h"
+#include "image/edge_sampling.h"
+#include "image/pixel_samples.h"
 #include "image/texture_detail.h"
 #include "pipeline/vertex_radiance.h"
 
@@ -46,7 +50,20 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
     const SurfaceDetail detail(session.scene(), session.patches(), session.appearance(),
                                spectral ? session.system().wavelengthCount : 0);
     const SampleShader* shader = detail.empty() ? nullptr : &detail;
-    auto image = renderCornerValues(session.patches(), camera, settings, corners, channels,
+    // Edge-adaptive supersampling: one per-pixel sample plan for both passes.
+    RenderSettings sampled = settings;
+    std::vector<uint8_t> sides;
+    if (settings.edgeSamplesPerPixel > 0 && settings.pixelSides.empty()) {
+        auto planned = edgeAdaptiveSides(session.patches(), camera, settings,
+                                         settings.edgeSamplesPerPixel, shader);
+        if (!planned) return planned.error();
+        sides = std::move(*planned);
+        sampled.pixelSides = sides;
+        const int base = samplesPerSide(settings.samplesPerPixel);
+        t.edgePixels = std::size_t(
+            std::count_if(sides.begin(), sides.end(), [&](uint8_t s) { return s != base; }));
+    }
+    auto image = renderCornerValues(session.patches(), camera, sampled, corners, channels,
                                     missValue, shader);
     if (!image) return image.error();
     t.renderSeconds = stage.seconds();
@@ -54,7 +71,7 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
         stage.restart();
         auto lit =
             renderDirectLight(session.scene(), session.patches(), session.system(),
-                              session.wavelengths(), camera, settings, direct, spectral, shader);
+                              session.wavelengths(), camera, sampled, direct, spectral, shader);
         if (!lit) return lit.error();
         for (std::size_t i = 0; i < image->pixels.size(); ++i)
             image->pixels[i] += lit->pixels[i];

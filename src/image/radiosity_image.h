@@ -3,6 +3,7 @@
 // ray cast per sample (renderer.h), or, with the direct final gather (final_gather.h), the
 // corners without the emitters' direct light plus that light computed per sample. One function
 // for `daisy render` and `daisy bench`, so both measure the same image.
+#include <cstddef>
 #include <string>
 
 #include "core/expected.h"
@@ -22,6 +23,7 @@ struct RadiosityImageTimes {
     double shadeSeconds = 0;  // per-patch channels and vertex smoothing
     double renderSeconds = 0;  // the ray-cast image
     double gatherSeconds = 0;  // the direct final gather (0 without)
+    std::size_t edgePixels = 0;  // pixels that took settings.edgeSamplesPerPixel samples
 };
 
 // Channels as Session::patchChannels ([L...] X Y Z coverage). Precondition: the session has F

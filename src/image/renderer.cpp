@@ -19,6 +19,11 @@ uint64_t renderImageBytes(const RenderSettings& settings, int channels) {
         uint64_t(std::max(channels, 0)) * sizeof(float) * 3;
 }
 
+int pixelSide(const RenderSettings& settings, int x, int y) {
+    if (settings.pixelSides.empty()) return samplesPerSide(settings.samplesPerPixel);
+    return settings.pixelSides[std::size_t(y) * std::size_t(settings.width) + std::size_t(x)];
+}
+
 Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                                    const RenderSettings& settings, std::span<const float> corners,
                                    int channels, std::span<const float> background,
@@ -36,16 +41,22 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                             channels, " channels needs about ", formatBytes(double(bytes)),
                             ", over --max-memory ", formatBytes(double(settings.maxMemoryBytes)))};
     }
+    if (!settings.pixelSides.empty() &&
+        settings.pixelSides.size() != std::size_t(settings.width) * settings.height) {
+        return Error{concat("render: ", settings.pixelSides.size(), " per-pixel sample counts for ",
+                            settings.width, " x ", settings.height, " pixels")};
+    }
     if (auto ok = checkRayCamera(camera); !ok) return withContext(ok.error(), "render");
     // Watertight (robust) intersection: no background between patches (issue 19).
     auto caster = EmbreeRayCaster::create(mesh, PacketMode::Packet16, /*robust=*/true);
     if (!caster) return withContext(caster.error(), "render");
     const EmbreeRayCaster& tracer = **caster;
 
-    const int side = samplesPerSide(settings.samplesPerPixel);
+    int maxSide = samplesPerSide(settings.samplesPerPixel);
+    for (const uint8_t side : settings.pixelSides)
+        maxSide = std::max(maxSide, int(side));
     const std::size_t stride = std::size_t(channels);
-    const std::size_t rowSamples = std::size_t(settings.width) * side * side;
-    const double sampleWeight = 1.0 / (double(side) * side);
+    const std::size_t rowSamples = std::size_t(settings.width) * maxSide * maxSide;
     Image image(settings.width, settings.height, channels);
 
     const auto renderRows = [&](const tbb::blocked_range<int>& rows) {
@@ -53,21 +64,22 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
         std::vector<SurfaceHit> hits(rowSamples);
         std::vector<double> sum(stride), sample(stride);
         for (int y = rows.begin(); y != rows.end(); ++y) {
-            // Sample (i, j) of pixel (x, y) sits at the centre of stratum (i, j) of an N x N
-            // grid over the pixel: a regular, deterministic box-filter supersampling.
+            // Sample (i, j) of pixel (x, y) sits at the centre of stratum (i, j) of its N x N
+            // grid: a regular, deterministic box-filter supersampling.
             std::size_t k = 0;
             for (int x = 0; x < settings.width; ++x) {
-                for (int j = 0; j < side; ++j) {
-                    for (int i = 0; i < side; ++i) {
-                        const auto [ox, oy] = stratumOffset(j * side + i, side);
-                        rays[k++] =
-                            primaryRay(camera, settings.width, settings.height, x + ox, y + oy);
-                    }
+                const int side = pixelSide(settings, x, y);
+                for (int s = 0; s < side * side; ++s) {
+                    const auto [ox, oy] = stratumOffset(s, side);
+                    rays[k++] = primaryRay(camera, settings.width, settings.height, x + ox, y + oy);
                 }
             }
-            tracer.closestSurfaceHits(rays, hits);
+            const std::span<const Ray> rowRays(rays.data(), k);
+            const std::span<SurfaceHit> rowHits(hits.data(), k);
+            tracer.closestSurfaceHits(rowRays, rowHits);
             k = 0;
             for (int x = 0; x < settings.width; ++x) {
+                const int side = pixelSide(settings, x, y);
                 std::fill(sum.begin(), sum.end(), 0.0);
                 for (int s = 0; s < side * side; ++s, ++k) {
                     SurfaceHit& hit = hits[k];
@@ -90,7 +102,7 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                 }
                 float* out = image.at(x, y);
                 for (std::size_t c = 0; c < stride; ++c)
-                    out[c] = static_cast<float>(sum[c] * sampleWeight);
+                    out[c] = static_cast<float>(sum[c] / (side * side));
             }
         }
     };

@@ -21,7 +21,18 @@ struct RenderSettings {
     int samplesPerPixel = 1;  // N x N per pixel where N = ceil(sqrt(spp)); 1 = pixel centre
     int threads = 0;  // 0 = all hardware threads
     uint64_t maxMemoryBytes = 0;  // --max-memory: refuse images needing more; 0 = no limit
+    // Edge-adaptive supersampling (image/edge_sampling.h): pixels on a silhouette, crease or
+    // material boundary take this many samples (N x N), the others samplesPerPixel; 0 = off.
+    // renderRadiosityImage turns it into pixelSides.
+    int edgeSamplesPerPixel = 0;
+    // Per pixel (row-major) the side N of its N x N sample grid, borrowed for the call; empty =
+    // samplesPerSide(samplesPerPixel) everywhere. renderCornerValues and renderDirectLight
+    // follow it, so their samples coincide.
+    std::span<const uint8_t> pixelSides;
 };
+
+// Side of pixel (x, y)'s sample grid under `settings` (pixelSides or the uniform side).
+int pixelSide(const RenderSettings& settings, int x, int y);
 
 // Bytes of the rendered image and the copies a front end makes of it (exposure, RGB): about
 // three float images of `channels` channels.

@@ -51,7 +51,7 @@ std::map<std::string, std::map<std::string, std::string>> readRows(const std::st
 TEST(BenchCli, FurnaceSweepMeasuresAgainstTheAnalyticAnswer) {
     const auto dir = test::testTempDir();
     const std::string csv = (dir / "furnace.csv").string();
-    RunResult run = runDaisy("bench " + kFurnace + " --quick -o " + csv);
+    RunResult run = runDaisy("bench " + kFurnace + " --reference daisy --quick -o " + csv);
     ASSERT_EQ(run.status, 0) << run.output;
     EXPECT_NE(run.output.find("reference is the analytic furnace solution"), std::string::npos)
         << run.output;
@@ -86,7 +86,7 @@ TEST(BenchCli, FurnaceSweepMeasuresAgainstTheAnalyticAnswer) {
     ASSERT_TRUE(reference.ok()) << reference.error().message;
     EXPECT_EQ(reference->width, 96);
 
-    run = runDaisy("bench " + kFurnace + " --quick -o " + csv);
+    run = runDaisy("bench " + kFurnace + " --reference daisy --quick -o " + csv);
     ASSERT_EQ(run.status, 0) << run.output;
     EXPECT_NE(run.output.find("reference read from"), std::string::npos) << run.output;
 }

@@ -7,11 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <utility>
 #include <vector>
 
 #include "image/camera.h"
+#include "image/pixel_samples.h"
 #include "image/radiosity_image.h"
 #include "pathtrace/path_tracer.h"
 #include "pipeline/session.h"
@@ -153,6 +155,67 @@ TEST(FinalGather, PathTracerAgreesWithTheGatheredPlates) {
     // centre at 1 spp): a 0.5% allowance for that on top of five standard errors.
     EXPECT_NEAR(sumTraced, sumGathered, 5 * std::sqrt(variance) + 0.005 * sumGathered);
     EXPECT_LT(std::sqrt(variance), 0.01 * sumGathered);
+}
+
+// Per-pixel sample grids (edge-adaptive sampling, image/edge_sampling.h) change the shadow
+// segments per sample from pixel to pixel: a black plate between the plates shadows every
+// receiver point completely, so the gathered light must be exactly 0 in every pixel whatever
+// the grids, 1 x 1 (16 segments) next to 8 x 8 (1 segment each), and still match the closed
+// form on the open plates with the same grids.
+TEST(FinalGather, PerPixelSampleGridsKeepShadowsAndTheClosedForm) {
+    RenderSettings settings;
+    settings.width = 32;
+    settings.height = 24;
+    std::vector<uint8_t> sides(std::size_t(settings.width) * settings.height);
+    for (std::size_t i = 0; i < sides.size(); ++i)
+        sides[i] = (i / 3) % 2 == 0 ? 8 : 1;  // three 8 x 8 pixels, three 1 x 1, ...
+    settings.pixelSides = sides;
+    DirectLightSettings direct;
+
+    Plates shadowed = plates();
+    // Under the source, over the receiver, facing it; below the camera's rays to the receiver.
+    verify::addQuad(shadowed.scene.mesh, {-0.5, 0, 0.3}, {-0.5, 1.5, 0.3}, {1.5, 1.5, 0.3},
+                    {1.5, 0, 0.3}, 2);
+    shadowed.scene.materials.push_back(flat(0, 0));
+    Session blocked = solvedSession(shadowed);
+    auto dark = renderDirectLight(blocked.scene(), blocked.patches(), blocked.system(),
+                                  blocked.wavelengths(), shadowed.camera, settings, direct, false);
+    ASSERT_TRUE(dark.ok()) << dark.error().message;
+    int receiverPixels = 0;
+    for (int y = 0; y < settings.height; ++y) {
+        for (int x = 0; x < settings.width; ++x) {
+            Vec3d point;
+            if (!receiverPoint(shadowed.camera, settings.width, settings.height, x, y, point))
+                continue;
+            EXPECT_EQ(dark->at(x, y)[1], 0.0f) << x << " " << y;
+            ++receiverPixels;
+        }
+    }
+    EXPECT_GT(receiverPixels, 20);
+
+    const Plates open = plates();
+    Session session = solvedSession(open);
+    auto lit = renderDirectLight(session.scene(), session.patches(), session.system(),
+                                 session.wavelengths(), open.camera, settings, direct, false);
+    ASSERT_TRUE(lit.ok());
+    const double yWeight = session.wavelengths().xyzWeights(0)[1];
+    for (int y = 0; y < settings.height; ++y) {
+        for (int x = 0; x < settings.width; ++x) {
+            Vec3d point;
+            if (!receiverPoint(open.camera, settings.width, settings.height, x, y, point)) continue;
+            // The closed form's mean over the pixel's grid of stratum centres.
+            const int side = sides[std::size_t(y * settings.width + x)];
+            double exact = 0;
+            for (int k = 0; k < side * side; ++k) {
+                const auto [ox, oy] = stratumOffset(k, side);
+                const Vec3d at =
+                    onReceiverPlane(open.camera, settings.width, settings.height, x + ox, y + oy);
+                exact += 0.5 * verify::pointToPolygon(at, {0, 0, 1}, open.source) / kPi;
+            }
+            exact /= side * side;
+            EXPECT_NEAR(lit->at(x, y)[1] / yWeight, exact, 2e-4 * exact + 1e-7) << x << " " << y;
+        }
+    }
 }
 
 }  // namespace

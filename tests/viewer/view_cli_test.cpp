@@ -89,8 +89,9 @@ TEST(ViewCli, ScreenshotMatchesRenderOfTheSameCamera) {
     const auto dir = test::testTempDir();
     const std::string viewPng = (dir / "view.png").string();
     const std::string renderPng = (dir / "render.png").string();
+    // The viewer's image: the smooth radiance at one sample per pixel (no edge supersampling).
     const RunResult rendered =
-        test::runDaisy("render " + kScene + kSize + " --gather none -o " + renderPng);
+        test::runDaisy("render " + kScene + kSize + " --gather none --edge-spp 0 -o " + renderPng);
     ASSERT_EQ(rendered.status, 0) << rendered.output;
     const RunResult viewed = runView(kScene + kSize + " --frames 3 --screenshot " + viewPng);
     DAISY_VIEW_OR_SKIP(viewed);
@@ -128,7 +129,7 @@ TEST(ViewCli, DoubleSidedWallsMatchTheRenderWithoutZFighting) {
     const std::string scene = test::testDataPath("blender/cornell.gltf");
     const std::string size = " --width 320 --height 320";
     const RunResult rendered =
-        test::runDaisy("render " + scene + size + " --gather none -o " + renderPng);
+        test::runDaisy("render " + scene + size + " --gather none --edge-spp 0 -o " + renderPng);
     ASSERT_EQ(rendered.status, 0) << rendered.output;
     const RunResult viewed = runView(scene + size + " --frames 3 --screenshot " + viewPng);
     DAISY_VIEW_OR_SKIP(viewed);
