@@ -17,6 +17,23 @@ using shared::vec3;
 // Cells per root triangle the fast path takes (L <= 2); finer levels are the shared kernel's.
 constexpr int kMaxCellsPerRoot = 16;
 
+// Points as structure of arrays. Lanes are assembled from scalar loads (_mm_setr_ps), not one
+// vector load: the points were just written as scalars, and a vector load of them would wait for
+// the stores to drain (no store-to-load forwarding across them).
+struct PointArrays {
+    float x[2 * 3 * kMaxCellsPerRoot];
+    float y[2 * 3 * kMaxCellsPerRoot];
+    float z[2 * 3 * kMaxCellsPerRoot];
+    int count = 0;
+    void push(vec3 p) {
+        x[count] = p.x;
+        y[count] = p.y;
+        z[count] = p.z;
+        ++count;
+    }
+    vec3 at(int k) const { return vec3(x[k], y[k], z[k]); }
+};
+
 #if defined(__SSE2__)
 
 // Four floats, one per quadrature cell. Every helper is the shared dialect's operation
@@ -59,11 +76,11 @@ Lane atan2Lanes(Lane y, Lane x) {
     return select(_mm_cmplt_ps(y, zero), _mm_xor_ps(r, signMask), r);
 }
 
-// shared::pointToTriangleFactor(points[k], n, t) for k < count, four at a time: the front test,
-// the clip (taken only when it keeps the whole triangle; other lanes call the shared function)
-// and Lambert's contour sum of shared::pointToPolygonFactor.
-void pointToTriangleFactors(const vec3* points, int count, vec3 n, const PatchGeometry& t,
-                            float* out) {
+// shared::pointToTriangleFactor(points[k], n, t) for every point, four at a time: the front
+// test, the clip (taken only when it keeps the whole triangle; other lanes call the shared
+// function) and Lambert's contour sum of shared::pointToPolygonFactor.
+void pointToTriangleFactors(const PointArrays& points, vec3 n, const PatchGeometry& t, float* out) {
+    const int count = points.count;
     const vec3 corner[3] = {t.a, t.b, t.c};
     const vec3 edge[3] = {t.b - t.a, t.c - t.b, t.a - t.c};
     const float eps2Scalar = shared::planeEpsilon(1.0f) * shared::planeEpsilon(1.0f);
@@ -71,14 +88,15 @@ void pointToTriangleFactors(const vec3* points, int count, vec3 n, const PatchGe
     const Lane eps2 = splat(eps2Scalar);
     const Lane nx = splat(n.x), ny = splat(n.y), nz = splat(n.z);
     for (int first = 0; first < count; first += 4) {
-        alignas(16) float xs[4], ys[4], zs[4];
-        for (int k = 0; k < 4; ++k) {
-            const vec3& p = points[first + k < count ? first + k : count - 1];
-            xs[k] = p.x;
-            ys[k] = p.y;
-            zs[k] = p.z;
-        }
-        const Lane px = _mm_load_ps(xs), py = _mm_load_ps(ys), pz = _mm_load_ps(zs);
+        int lane[4];
+        for (int k = 0; k < 4; ++k)
+            lane[k] = first + k < count ? first + k : count - 1;
+        const Lane px =
+            _mm_setr_ps(points.x[lane[0]], points.x[lane[1]], points.x[lane[2]], points.x[lane[3]]);
+        const Lane py =
+            _mm_setr_ps(points.y[lane[0]], points.y[lane[1]], points.y[lane[2]], points.y[lane[3]]);
+        const Lane pz =
+            _mm_setr_ps(points.z[lane[0]], points.z[lane[1]], points.z[lane[2]], points.z[lane[3]]);
         // In front of t: dot(t.normal, p - t.a) > 0.
         const Lane front =
             _mm_cmpgt_ps(dot3(splat(t.normal.x), splat(t.normal.y), splat(t.normal.z),
@@ -121,17 +139,16 @@ void pointToTriangleFactors(const vec3* points, int count, vec3 n, const PatchGe
         for (int k = 0; k < 4 && first + k < count; ++k) {
             const bool clipped = ((frontBits >> k) & 1) != 0 && ((wholeBits >> k) & 1) == 0;
             out[first + k] =
-                clipped ? shared::pointToTriangleFactor(points[first + k], n, t) : values[k];
+                clipped ? shared::pointToTriangleFactor(points.at(first + k), n, t) : values[k];
         }
     }
 }
 
 #else
 
-void pointToTriangleFactors(const vec3* points, int count, vec3 n, const PatchGeometry& t,
-                            float* out) {
-    for (int k = 0; k < count; ++k)
-        out[k] = shared::pointToTriangleFactor(points[k], n, t);
+void pointToTriangleFactors(const PointArrays& points, vec3 n, const PatchGeometry& t, float* out) {
+    for (int k = 0; k < points.count; ++k)
+        out[k] = shared::pointToTriangleFactor(points.at(k), n, t);
 }
 
 #endif
@@ -158,10 +175,9 @@ float hybridPairFactorCpu(int level, const PatchGeometry& i, const PatchGeometry
     const vec3 jCentre = shared::patchCentroid(j);
     float jRadius = -1.0f;  // the shared kernel's, computed when first needed
     const float levelScale = 1.0f / float(1 << level);
-    vec3 points[2 * 3 * kMaxCellsPerRoot];  // 1 a far cell, 3 a middle one
+    PointArrays points;  // 1 a far cell, 3 a middle one
     bool middle[2 * kMaxCellsPerRoot];
     float share[2];
-    int pointCount = 0;
     for (int r = 0; r + 2 < piece.count; ++r) {
         const vec3 ra = piece.v[0];
         const vec3 rb = piece.v[r + 1];
@@ -190,17 +206,17 @@ float hybridPairFactorCpu(int level, const PatchGeometry& i, const PatchGeometry
             }
             middle[r * cells + t] = !isFar;
             if (isFar) {
-                points[pointCount++] = x;
+                points.push(x);
             } else {  // threePointRule's points
                 const vec3 sum = a + b + c;
-                points[pointCount++] = (sum + a * 3.0f) * (1.0f / 6.0f);
-                points[pointCount++] = (sum + b * 3.0f) * (1.0f / 6.0f);
-                points[pointCount++] = (sum + c * 3.0f) * (1.0f / 6.0f);
+                points.push((sum + a * 3.0f) * (1.0f / 6.0f));
+                points.push((sum + b * 3.0f) * (1.0f / 6.0f));
+                points.push((sum + c * 3.0f) * (1.0f / 6.0f));
             }
         }
     }
     float values[2 * 3 * kMaxCellsPerRoot];
-    pointToTriangleFactors(points, pointCount, i.normal, j, values);
+    pointToTriangleFactors(points, i.normal, j, values);
     float fixedPart = 0.0f;
     const int cellCount = (piece.count - 2) * cells;
     for (int cell = 0, k = 0; cell < cellCount; ++cell) {
