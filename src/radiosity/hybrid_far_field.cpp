@@ -224,23 +224,25 @@ float hybridPairFactorCpu(int level, const PatchGeometry& i, const PatchGeometry
             float sum = values[k];
             sum += values[k + 1];
             sum += values[k + 2];
-            fixedPart += share[cell / cells] * (sum * (1.0f / 3.0f));
+            fixedPart += share[cell >> (2 * level)] * (sum * (1.0f / 3.0f));
             k += 3;
         } else {
-            fixedPart += share[cell / cells] * values[k];
+            fixedPart += share[cell >> (2 * level)] * values[k];
             k += 1;
         }
     }
     return fixedPart;
 }
 
-shared::PairFactors pairFactorsCpu(int method, int level, const PatchGeometry& i,
-                                   const PatchGeometry& j) {
-    if (method != DAISY_METHOD_HYBRID) return shared::pairFactors(method, level, i, j);
+namespace {
+
+// shared::pairFactors for the hybrid method: the accurate direction, reciprocity for the other
+// entry; facingAway tested only when `testFacing` (a candidate pair has passed it already).
+shared::PairFactors hybridPairFactorsCpu(int level, const PatchGeometry& i, const PatchGeometry& j,
+                                         bool testFacing) {
     const int l = shared::clamp(level, 0, DAISY_MAX_QUADRATURE_LEVEL);
-    // shared::pairFactors with pairFactorUnoccluded's hybrid branch.
     const auto unoccluded = [&](const PatchGeometry& p, const PatchGeometry& q) {
-        return shared::facingAway(p, q) ? 0.0f : hybridPairFactorCpu(l, p, q);
+        return testFacing && shared::facingAway(p, q) ? 0.0f : hybridPairFactorCpu(l, p, q);
     };
     shared::PairFactors f;
     if (shared::patchPrecedes(j, i)) {
@@ -251,6 +253,20 @@ shared::PairFactors pairFactorsCpu(int method, int level, const PatchGeometry& i
         f.fji = f.fij * (i.area / j.area);
     }
     return f;
+}
+
+}  // namespace
+
+shared::PairFactors pairFactorsCpu(int method, int level, const PatchGeometry& i,
+                                   const PatchGeometry& j) {
+    if (method != DAISY_METHOD_HYBRID) return shared::pairFactors(method, level, i, j);
+    return hybridPairFactorsCpu(level, i, j, true);
+}
+
+shared::PairFactors candidatePairFactorsCpu(int method, int level, const PatchGeometry& i,
+                                            const PatchGeometry& j) {
+    if (method != DAISY_METHOD_HYBRID) return shared::pairFactors(method, level, i, j);
+    return hybridPairFactorsCpu(level, i, j, false);
 }
 
 }  // namespace daisy

@@ -19,4 +19,9 @@ float hybridPairFactorCpu(int level, const shared::PatchGeometry& i,
 shared::PairFactors pairFactorsCpu(int method, int level, const shared::PatchGeometry& i,
                                    const shared::PatchGeometry& j);
 
+// pairFactorsCpu of a pair known not to face away (the driver's candidates, pair_evaluator.h):
+// the same values without testing shared::facingAway again.
+shared::PairFactors candidatePairFactorsCpu(int method, int level, const shared::PatchGeometry& i,
+                                            const shared::PatchGeometry& j);
+
 }  // namespace daisy

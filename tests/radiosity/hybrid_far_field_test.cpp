@@ -45,6 +45,12 @@ TEST(HybridFarField, BitIdenticalToTheSharedKernel) {
             const shared::PairFactors got = pairFactorsCpu(DAISY_METHOD_HYBRID, level, i, j);
             ASSERT_EQ(got.fij, want.fij) << "pair " << k << " level " << level;
             ASSERT_EQ(got.fji, want.fji) << "pair " << k << " level " << level;
+            if (!shared::facingAway(i, j)) {  // a candidate: the evaluator's entry point
+                const shared::PairFactors candidate =
+                    candidatePairFactorsCpu(DAISY_METHOD_HYBRID, level, i, j);
+                ASSERT_EQ(candidate.fij, want.fij) << "pair " << k << " level " << level;
+                ASSERT_EQ(candidate.fji, want.fji) << "pair " << k << " level " << level;
+            }
             ++compared;
             nonzero += want.fij > 0.0f ? 1 : 0;
         }
