@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "radiosity/form_factors_internal.h"
+#include "radiosity/hybrid_far_field.h"
 #include "radiosity/visibility_samples.h"
 #include "shared/formfactor.h"
 #include "shared/rng.h"
@@ -62,9 +63,10 @@ public:
     }
 
 private:
-    // Unoccluded F_ij (>= 0), from the shared kernel in the accurate direction.
+    // Unoccluded F_ij (>= 0) of a candidate pair, the shared kernel's in the accurate direction
+    // (its far-field cells vectorised: radiosity/hybrid_far_field.h).
     float factor(uint32_t i, uint32_t j) const {
-        const float f = shared::pairFactors(method_, level_, geometry_[i], geometry_[j]).fij;
+        const float f = candidatePairFactorsCpu(method_, level_, geometry_[i], geometry_[j]).fij;
         return f > 0.0f ? f : 0.0f;
     }
 

@@ -24,20 +24,22 @@ using shared::PatchGeometry;
 using shared::vec3;
 
 constexpr int kBlock = 16;  // samples per vectorised block
+constexpr int kSmallBlock = 4;  // the block of the default 4 rays a pair (no 12 lanes wasted)
 
-// Points q = first .. first + count - 1 (count <= kBlock) of
+// Points q = first .. first + count - 1 (count <= kLanes) of
 // shared::stratifiedPointOnTriangle(seed, q, total, t), written as x[q - first], ...: the same
 // operations in the same order as the shared code, laid out so the loops over samples
-// vectorise.
-DAISY_SAMPLES_CLONES
-void stratifiedBlock(uint32_t seed, int first, int count, int total, const PatchGeometry& t,
-                     float* x, float* y, float* z) {
+// vectorise. Inlined into each of the cloned entry points below, so it takes their target.
+template <int kLanes>
+[[gnu::always_inline]] inline void stratifiedBlockOf(uint32_t seed, int first, int count, int total,
+                                                     const PatchGeometry& t, float* x, float* y,
+                                                     float* z) {
     const int levels = shared::stratificationLevels(total);
     const uint32_t scramble = shared::pcgHash(seed);
     const uint32_t jitterKey = shared::pcgHash(shared::pcgHash(seed + 0x68bc21ebu));
-    float ax[kBlock], ay[kBlock], az[kBlock], bx[kBlock], by[kBlock], bz[kBlock];
-    float cx[kBlock], cy[kBlock], cz[kBlock];
-    for (int k = 0; k < kBlock; ++k) {
+    float ax[kLanes], ay[kLanes], az[kLanes], bx[kLanes], by[kLanes], bz[kLanes];
+    float cx[kLanes], cy[kLanes], cz[kLanes];
+    for (int k = 0; k < kLanes; ++k) {
         ax[k] = t.a.x, ay[k] = t.a.y, az[k] = t.a.z;
         bx[k] = t.b.x, by[k] = t.b.y, bz[k] = t.b.z;
         cx[k] = t.c.x, cy[k] = t.c.y, cz[k] = t.c.z;
@@ -53,7 +55,7 @@ void stratifiedBlock(uint32_t seed, int first, int count, int total, const Patch
     };
     for (int l = 0; l < levels; ++l) {
         const uint32_t shift = uint32_t(2 * l);
-        for (int k = 0; k < kBlock; ++k) {
+        for (int k = 0; k < kLanes; ++k) {
             const uint32_t q = uint32_t(first + k);
             const uint32_t d = ((q >> shift) ^ (scramble >> shift)) & 3u;
             const uint32_t m0 = 0u - uint32_t(d == 0u), m1 = 0u - uint32_t(d == 1u);
@@ -78,17 +80,17 @@ void stratifiedBlock(uint32_t seed, int first, int count, int total, const Patch
             cx[k] = ncx, cy[k] = ncy, cz[k] = ncz;
         }
     }
-    float ux[kBlock], uy[kBlock], su[kBlock];
-    for (int k = 0; k < kBlock; ++k) {
+    float ux[kLanes], uy[kLanes], su[kLanes];
+    for (int k = 0; k < kLanes; ++k) {
         const uint32_t q = uint32_t(first + k);
         ux[k] = shared::uintToUnitFloat(shared::pcgHash((2u * q) ^ jitterKey));
         uy[k] = shared::uintToUnitFloat(shared::pcgHash((2u * q + 1u) ^ jitterKey));
     }
-    // Scalar on purpose: sqrtf's errno path keeps this one loop from vectorising.
-    for (int k = 0; k < kBlock; ++k)
+    // Vectorises with -fno-math-errno (the library's flag); sqrt is correctly rounded either way.
+    for (int k = 0; k < kLanes; ++k)
         su[k] = shared::sqrt(ux[k]);
-    float px[kBlock], py[kBlock], pz[kBlock];
-    for (int k = 0; k < kBlock; ++k) {
+    float px[kLanes], py[kLanes], pz[kLanes];
+    for (int k = 0; k < kLanes; ++k) {
         // uniformPointOnTriangle: a (1 - su) + b (su (1 - u.y)) + c (su u.y), su = sqrt(u.x).
         const float wa = 1.0f - su[k], wb = su[k] * (1.0f - uy[k]), wc = su[k] * uy[k];
         px[k] = ax[k] * wa + bx[k] * wb + cx[k] * wc;
@@ -100,9 +102,25 @@ void stratifiedBlock(uint32_t seed, int first, int count, int total, const Patch
     std::copy(pz, pz + count, z);
 }
 
+DAISY_SAMPLES_CLONES
+void stratifiedBlock(uint32_t seed, int first, int count, int total, const PatchGeometry& t,
+                     float* x, float* y, float* z) {
+    stratifiedBlockOf<kBlock>(seed, first, count, total, t, x, y, z);
+}
+
+DAISY_SAMPLES_CLONES
+void stratifiedSmallBlock(uint32_t seed, int count, const PatchGeometry& t, float* x, float* y,
+                          float* z) {
+    stratifiedBlockOf<kSmallBlock>(seed, 0, count, count, t, x, y, z);
+}
+
 // All `count` points of one stream, in index order.
 void stratifiedPoints(uint32_t seed, int count, const PatchGeometry& t, float* x, float* y,
                       float* z) {
+    if (count <= kSmallBlock) {
+        stratifiedSmallBlock(seed, count, t, x, y, z);
+        return;
+    }
     for (int first = 0; first < count; first += kBlock) {
         const int n = std::min(kBlock, count - first);
         stratifiedBlock(seed, first, n, count, t, x + first, y + first, z + first);

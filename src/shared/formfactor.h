@@ -58,16 +58,25 @@ DAISY_HD bool facingAway(DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j) {
 
 // Clips the triangle (a, b, c) to the closed half-space dot(n, x - p) >= 0 (Sutherland &
 // Hodgman 1974, one plane). Corners within planeEpsilon of the plane count as on it, so an edge
-// lying in the plane (a shared edge) is kept whole. Orientation is preserved.
+// lying in the plane (a shared edge) is kept whole. Orientation is preserved. The tolerance is
+// compared squared (s^2 <= planeEpsilon(1)^2 |d|^2): no square root a corner.
 DAISY_HD ClippedPolygon clipTriangleToHalfSpace(vec3 a, vec3 b, vec3 c, vec3 p, vec3 n) {
     vec3 in3[3] = {a, b, c};
     float s[3];
+    float eps2 = planeEpsilon(1.0f) * planeEpsilon(1.0f);
     for (int k = 0; k < 3; ++k) {
         vec3 d = in3[k] - p;
         s[k] = dot(n, d);
-        if (abs(s[k]) <= planeEpsilon(length(d))) s[k] = 0.0f;
+        if (s[k] * s[k] <= eps2 * dot(d, d)) s[k] = 0.0f;
     }
     ClippedPolygon clipped;
+    if (s[0] >= 0.0f && s[1] >= 0.0f && s[2] >= 0.0f) {  // wholly in front: the loop's result
+        clipped.v[0] = a;
+        clipped.v[1] = b;
+        clipped.v[2] = c;
+        clipped.count = 3;
+        return clipped;
+    }
     clipped.count = 0;
     for (int k = 0; k < 3; ++k) {
         int k1 = k == 2 ? 0 : k + 1;
@@ -94,14 +103,16 @@ DAISY_HD ClippedPolygon clipTriangleToHalfSpace(vec3 a, vec3 b, vec3 c, vec3 p, 
 // e_k = corner_k+1 - corner_k (v_k x v_k+1 = v_k x e_k without the cancellation).
 DAISY_HD float pointToPolygonFactor(vec3 p, vec3 n, DAISY_IN(ClippedPolygon) poly) {
     float sum = 0.0f;
+    vec3 v[4];
+    for (int k = 0; k < poly.count; ++k) {
+        v[k] = poly.v[k] - p;
+    }
     for (int k = 0; k < poly.count; ++k) {
         int k1 = k + 1 == poly.count ? 0 : k + 1;
-        vec3 vk = poly.v[k] - p;
-        vec3 vk1 = poly.v[k1] - p;
-        vec3 g = cross(vk, poly.v[k1] - poly.v[k]);
+        vec3 g = cross(v[k], poly.v[k1] - poly.v[k]);
         float gLength = length(g);
         if (gLength > 0.0f) {
-            float gamma = atan(gLength, dot(vk, vk1));
+            float gamma = atan(gLength, dot(v[k], v[k1]));
             sum += gamma * (dot(n, g) / gLength);
         }
     }

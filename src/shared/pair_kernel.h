@@ -28,8 +28,8 @@ DAISY_HD PairFactors pairEntry(uint i, uint j, DAISY_IN(PatchGeometry) gi,
                                uint seed, float clearanceRelative, BvhNodeBuffer nodes,
                                BvhTriangleBuffer triangles) {
     PairFactors f = pairFactors(method, level, gi, gj);
-    f.fij = max(f.fij, 0.0f);
-    f.fji = max(f.fji, 0.0f);
+    f.fij = max(0.0f, f.fij);
+    f.fji = max(0.0f, f.fji);
     if (rays > 0 && (f.fij > 0.0f || f.fji > 0.0f)) {
         float clearance = pairClearance(clearanceRelative, gi, gj);
         float v = pairVisibility(pairSeed(i, j, seed), rays, gi, gj, clearance, nodes, triangles);

@@ -31,30 +31,6 @@
         T v[];                                                                          \
     }
 // uint64_t is a built-in type under GL_EXT_shader_explicit_arithmetic_types_int64.
-// Vulkan lets a driver's atan be off by 4096 ULP (Vulkan spec, "Precision and Operation of
-// SPIR-V Instructions"), and lavapipe's is: F_ij differed from the reference backend's by up to
-// 3e-4 relative through the contour integral's edge angles (formfactor.h). So the shared code's
-// two-argument atan is this one: Cephes' atanf polynomial after reduction to [0, tan(pi/8)],
-// ~2 ULP like the C library's atan2f.
-float daisyAtan2(float y, float x) {
-    float ax = abs(x);
-    float ay = abs(y);
-    float big = max(ax, ay);
-    float a = big > 0.0 ? min(ax, ay) / big : 0.0;  // in [0, 1]
-    float offset = 0.0;
-    if (a > 0.414213562) {  // tan(pi/8): atan(a) = pi/4 + atan((a - 1) / (a + 1))
-        a = (a - 1.0) / (a + 1.0);
-        offset = 0.785398163;
-    }
-    float z = a * a;
-    float p =
-        ((8.05374449538e-2 * z - 1.38776856032e-1) * z + 1.99777106478e-1) * z - 3.33329491539e-1;
-    float r = offset + a + a * z * p;
-    if (ay > ax) r = 1.57079633 - r;
-    if (x < 0.0) r = 3.14159265 - r;
-    return y < 0.0 ? -r : r;
-}
-#define atan(y, x) daisyAtan2(y, x)
 
 #else
 
@@ -96,11 +72,14 @@ DAISY_HD float abs(float x) {
 DAISY_HD int abs(int x) {
     return x < 0 ? -x : x;
 }
+// min and max as the compare-and-select that x86's minss/maxss are (no libm call): the first
+// argument when either is NaN, so max(0.0f, x) and min(1.0f, x) map a NaN x to the constant, as
+// fmaxf/fminf did; clamp maps NaN to lo.
 DAISY_HD float min(float a, float b) {
-    return fminf(a, b);
+    return b < a ? b : a;
 }
 DAISY_HD float max(float a, float b) {
-    return fmaxf(a, b);
+    return b > a ? b : a;
 }
 DAISY_HD int min(int a, int b) {
     return a < b ? a : b;
@@ -115,7 +94,7 @@ DAISY_HD uint max(uint a, uint b) {
     return a > b ? a : b;
 }
 DAISY_HD float clamp(float x, float lo, float hi) {
-    return fminf(fmaxf(x, lo), hi);
+    return min(max(lo, x), hi);
 }
 DAISY_HD int clamp(int x, int lo, int hi) {
     return x < lo ? lo : (x > hi ? hi : x);
@@ -125,9 +104,6 @@ DAISY_HD float sin(float x) {
 }
 DAISY_HD float cos(float x) {
     return cosf(x);
-}
-DAISY_HD float atan(float y, float x) {
-    return atan2f(y, x);
 }
 DAISY_HD float floor(float x) {
     return floorf(x);
@@ -219,5 +195,45 @@ DAISY_HD vec3 mix(vec3 a, vec3 b, float t) {
 }  // namespace daisy::shared
 
 #endif
+
+// ---- All three dialects.
+DAISY_SHARED_BEGIN
+
+// The shared code's two-argument arc tangent, one definition for C++, CUDA and GLSL (written as
+// `atan(y, x)`): the C library's atan2f is a call (13-18% of the cpu backend's view-factor time),
+// and Vulkan lets a driver's atan be off by 4096 ULP (Vulkan spec, "Precision and Operation of
+// SPIR-V Instructions"; lavapipe's moved F_ij by up to 3e-4 relative). Cephes' atanf polynomial
+// (Moshier, Cephes Math Library, atanf.c) on [-tan(pi/8), tan(pi/8)]: with m = min(|x|, |y|)
+// and M = max, atan(m / M), or pi/4 + atan((m - M) / (m + M)) when m / M > tan(pi/8), so one
+// division; then the octant. Measured against double atan2: below 2.5e-7 relative (about 2 ULP)
+// over the finite range (tests/shared/atan_test.cpp). Finite arguments; atan(0, 0) = 0, and a
+// negative zero x counts as +0 (atan(0, -0) = 0, not pi).
+DAISY_HD float daisyAtan2(float y, float x) {
+    float ax = abs(x);
+    float ay = abs(y);
+    float greater = max(ax, ay);
+    float lesser = min(ax, ay);
+    bool upper = lesser > 0.414213562f * greater;  // tan(pi/8)
+    float num = upper ? lesser - greater : lesser;
+    float den = upper ? lesser + greater : greater;
+    float a = den > 0.0f ? num / den : 0.0f;  // in [-tan(pi/8), tan(pi/8)]
+    float z = a * a;
+    float p = ((8.05374449538e-2f * z - 1.38776856032e-1f) * z + 1.99777106478e-1f) * z -
+        3.33329491539e-1f;
+    float r = (upper ? 0.785398163f : 0.0f) + (a + a * z * p);
+    r = ay > ax ? 1.57079633f - r : r;
+    r = x < 0.0f ? 3.14159265f - r : r;
+    return y < 0.0f ? -r : r;
+}
+
+#if defined(DAISY_GLSL)
+#define atan(y, x) daisyAtan2(y, x)
+#else
+DAISY_HD float atan(float y, float x) {
+    return daisyAtan2(y, x);
+}
+#endif
+
+DAISY_SHARED_END
 
 #endif  // DAISY_SHARED_PRELUDE_H

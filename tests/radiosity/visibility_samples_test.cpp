@@ -34,7 +34,7 @@ TEST(VisibilitySamples, BitIdenticalToTheSharedSequence) {
         const PatchGeometry i = randomTriangle(rng);
         const PatchGeometry j = randomTriangle(rng);
         const uint32_t seed = shared::pairSeed(uint32_t(trial), uint32_t(trial * 7 + 3), 1u);
-        for (int count : {1, 3, 16, 17, 64, 300}) {
+        for (int count : {1, 3, 4, 16, 17, 64, 300}) {
             std::vector<vec3> pi(count), pj(count);
             visibilitySamples(seed, count, i, j, pi.data(), pj.data());
             for (int k = 0; k < count; ++k) {

@@ -1,0 +1,84 @@
+// The cpu backend's vectorised hybrid kernel (radiosity/hybrid_far_field.h) against its oracle,
+// the shared kernel (shared/formfactor.h) that the reference, vulkan and cuda backends run: the
+// same operations in the same order, so every factor must be bit-identical, for far pairs (the
+// vectorised lanes), near and clipped ones (the fallbacks) alike.
+#include "radiosity/hybrid_far_field.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "shared/formfactor.h"
+
+namespace daisy {
+namespace {
+
+using shared::PatchGeometry;
+using shared::vec3;
+
+// A random triangle of about `size` around `centre`, random orientation.
+PatchGeometry randomTriangle(std::mt19937& rng, vec3 centre, float size) {
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    const auto corner = [&]() { return centre + vec3(u(rng), u(rng), u(rng)) * size; };
+    return shared::makePatchGeometry(corner(), corner(), corner());
+}
+
+// Pairs at distances from touching to 1000 sizes, in a box far from the origin too (the plane
+// tolerances grow with the coordinates), at the levels the fast path takes (L <= 2) and one it
+// leaves to the shared kernel (L = 3).
+TEST(HybridFarField, BitIdenticalToTheSharedKernel) {
+    std::mt19937 rng(1812);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    std::uniform_real_distribution<float> logDistance(-1.0f, 3.0f);
+    int nonzero = 0, compared = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const vec3 origin = k % 4 == 3 ? vec3(1000.0f, -250.0f, 40.0f) : vec3(0.0f);
+        const float size = 0.05f + 0.2f * (u(rng) + 1.0f);
+        const PatchGeometry i = randomTriangle(rng, origin, size);
+        const float distance = size * std::pow(10.0f, logDistance(rng));
+        const vec3 direction = shared::normalize(vec3(u(rng), u(rng), u(rng)) + vec3(0, 0, 1e-3f));
+        const PatchGeometry j = randomTriangle(rng, origin + direction * distance, size);
+        if (!(i.area > 1e-6f && j.area > 1e-6f)) continue;
+        for (int level : {0, 1, 2, 3}) {
+            const shared::PairFactors want = shared::pairFactors(DAISY_METHOD_HYBRID, level, i, j);
+            const shared::PairFactors got = pairFactorsCpu(DAISY_METHOD_HYBRID, level, i, j);
+            ASSERT_EQ(got.fij, want.fij) << "pair " << k << " level " << level;
+            ASSERT_EQ(got.fji, want.fji) << "pair " << k << " level " << level;
+            if (!shared::facingAway(i, j)) {  // a candidate: the evaluator's entry point
+                const shared::PairFactors candidate =
+                    candidatePairFactorsCpu(DAISY_METHOD_HYBRID, level, i, j);
+                ASSERT_EQ(candidate.fij, want.fij) << "pair " << k << " level " << level;
+                ASSERT_EQ(candidate.fji, want.fji) << "pair " << k << " level " << level;
+            }
+            ++compared;
+            nonzero += want.fij > 0.0f ? 1 : 0;
+        }
+    }
+    // Most pairs face each other and most are far: the vectorised lanes did real work.
+    EXPECT_GT(compared, 70000);
+    EXPECT_GT(nonzero, compared / 8);
+}
+
+// Coplanar neighbours and a pair sharing an edge (the adaptive rule's cases) and the other
+// methods: the shared kernel's own values.
+TEST(HybridFarField, NearPairsAndOtherMethodsAreTheSharedKernel) {
+    const PatchGeometry floor =
+        shared::makePatchGeometry(vec3(0, 0, 0), vec3(1, 0, 0), vec3(0, 1, 0));
+    const PatchGeometry wall =
+        shared::makePatchGeometry(vec3(0, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1));
+    const PatchGeometry ceiling =
+        shared::makePatchGeometry(vec3(0, 0, 40), vec3(0, 1, 40), vec3(1, 0, 40));
+    for (int method : {DAISY_METHOD_HYBRID, DAISY_METHOD_RIEMANN, DAISY_METHOD_NUSSELT}) {
+        for (const PatchGeometry* other : {&wall, &ceiling}) {
+            const shared::PairFactors want = shared::pairFactors(method, 1, floor, *other);
+            const shared::PairFactors got = pairFactorsCpu(method, 1, floor, *other);
+            EXPECT_EQ(got.fij, want.fij) << method;
+            EXPECT_EQ(got.fji, want.fji) << method;
+            EXPECT_GT(got.fij, 0.0f) << method;
+        }
+    }
+}
+
+}  // namespace
+}  // namespace daisy
