@@ -15,6 +15,13 @@
 
 layout(local_size_x = DAISY_PAIR_WORKGROUP_SIZE) in;
 
+// Specialised per build (vulkan_backend.cpp): the method and the level fold to constants, so a
+// pipeline holds only its method's kernel, and the clear-shaft pipeline (kTraced = 0) no BVH
+// traversal. It matters on lavapipe, which runs both sides of every branch (masked SIMD).
+layout(constant_id = 0) const int kMethod = DAISY_METHOD_HYBRID;
+layout(constant_id = 1) const int kLevel = DAISY_DEFAULT_QUADRATURE_LEVEL;
+layout(constant_id = 2) const int kTraced = 1;
+
 layout(push_constant, scalar) uniform Push {
     PairKernelParams params;
 };
@@ -32,7 +39,7 @@ void main() {
     const PairIndex pair = KernelPairs(params.pairs).v[slot];
     KernelPatches patches = KernelPatches(params.patches);
     KernelResults(params.results).v[slot] =
-        pairEntry(pair.i, pair.j, patches.v[pair.i], patches.v[pair.j], params.method, params.level,
-                  params.rays, params.seed, params.clearance, BvhNodeBuffer(params.nodes),
-                  BvhTriangleBuffer(params.triangles));
+        pairEntry(pair.i, pair.j, patches.v[pair.i], patches.v[pair.j], kMethod, kLevel,
+                  kTraced != 0 ? params.rays : 0, params.seed, params.clearance,
+                  BvhNodeBuffer(params.nodes), BvhTriangleBuffer(params.triangles));
 }

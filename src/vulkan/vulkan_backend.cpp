@@ -7,6 +7,8 @@
 #include "vulkan/vulkan_backend.h"
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <tuple>
 #include <vector>
 
@@ -54,12 +56,10 @@ uint64_t pairWork(const FormFactorSettings& settings) {
 class VulkanBackend : public Backend {
 public:
     VulkanBackend(VulkanContext context, const VulkanBackendLimits& limits)
-        : context_(context), limits_(limits) {
-        pipeline_ = createComputePipeline(context_, embeddedSpirv("form_factors.comp"),
-                                          sizeof(PairKernelParams));
-    }
+        : context_(context), limits_(limits) {}
     ~VulkanBackend() override {
-        destroyComputePipeline(context_, pipeline_);
+        for (auto& [key, pipeline] : pipelines_)
+            destroyComputePipeline(context_, pipeline);
         destroyContext(context_);
     }
     VulkanBackend(const VulkanBackend&) = delete;
@@ -80,9 +80,24 @@ private:
     Expected<VulkanBuffer> uploadArray(const void* data, std::size_t bytes, const char* what,
                                        std::size_t count);
 
+    // The pair kernel specialised to (method constant, level, traced: 1 with rays, 0 without)
+    // (shaders/form_factors.comp.glsl), compiled on first use and kept for the next build.
+    const ComputePipeline& pipeline(int method, int level, bool traced) {
+        const std::array<int32_t, 3> key{method, level, traced ? 1 : 0};
+        auto found = pipelines_.find(key);
+        if (found == pipelines_.end()) {
+            found = pipelines_
+                        .emplace(key,
+                                 createComputePipeline(context_, embeddedSpirv("form_factors.comp"),
+                                                       sizeof(PairKernelParams), key))
+                        .first;
+        }
+        return found->second;
+    }
+
     VulkanContext context_;
     VulkanBackendLimits limits_;
-    ComputePipeline pipeline_;
+    std::map<std::array<int32_t, 3>, ComputePipeline> pipelines_;
 };
 
 Expected<VulkanBuffer> VulkanBackend::uploadArray(const void* data, std::size_t bytes,
@@ -165,6 +180,7 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
     const PairKernelBatch evaluate = [&](std::span<const PairIndex> pairs, int rays,
                                          std::span<PairFactors> out) -> Expected<void> {
         params.rays = rays;
+        const ComputePipeline& kernel = pipeline(params.method, params.level, rays > 0);
         upload(context_, pairBuffer, pairs.data(), pairs.size_bytes());
         for (std::size_t first = 0; first < pairs.size(); first += dispatchPairs) {
             params.pairOffset = uint32_t(first);
@@ -173,8 +189,8 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
                 (params.pairCount + DAISY_PAIR_WORKGROUP_SIZE - 1) / DAISY_PAIR_WORKGROUP_SIZE;
             // One submission per dispatch: a watchdog sees one short job at a time.
             submitAndWait(context_, [&](VkCommandBuffer commands) {
-                vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline);
-                vkCmdPushConstants(commands, pipeline_.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.pipeline);
+                vkCmdPushConstants(commands, kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
                                    sizeof params, &params);
                 vkCmdDispatch(commands, groups, 1, 1);
                 VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
