@@ -14,7 +14,9 @@
 
 #include "backend/pair_batches.h"
 #include "core/log.h"
+#include "core/progress.h"
 #include "core/strings.h"
+#include "core/timer.h"
 #include "geometry/flat_bvh.h"
 #include "radiosity/form_factors_internal.h"
 #include "radiosity/pair_evaluator.h"
@@ -80,10 +82,10 @@ private:
     Expected<VulkanBuffer> uploadArray(const void* data, std::size_t bytes, const char* what,
                                        std::size_t count);
 
-    // The pair kernel specialised to (method constant, level, traced: 1 with rays, 0 without)
+    // The pair kernel specialised to (method constant, level, DAISY_PAIR_MODE_*)
     // (shaders/form_factors.comp.glsl), compiled on first use and kept for the next build.
-    const ComputePipeline& pipeline(int method, int level, bool traced) {
-        const std::array<int32_t, 3> key{method, level, traced ? 1 : 0};
+    const ComputePipeline& pipeline(int method, int level, int mode) {
+        const std::array<int32_t, 3> key{method, level, mode};
         auto found = pipelines_.find(key);
         if (found == pipelines_.end()) {
             found = pipelines_
@@ -177,10 +179,9 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
     params.seed = detail::seed32(settings.seed);  // as the cpu and reference backends fold it
     params.clearance = kEndClearanceRelative;
 
-    const PairKernelBatch evaluate = [&](std::span<const PairIndex> pairs, int rays,
-                                         std::span<PairFactors> out) -> Expected<void> {
-        params.rays = rays;
-        const ComputePipeline& kernel = pipeline(params.method, params.level, rays > 0);
+    // Runs the kernel in `mode` over pairs (at most batchPairs) into out.
+    const auto run = [&](std::span<const PairIndex> pairs, int mode, std::span<PairFactors> out) {
+        const ComputePipeline& kernel = pipeline(params.method, params.level, mode);
         upload(context_, pairBuffer, pairs.data(), pairs.size_bytes());
         for (std::size_t first = 0; first < pairs.size(); first += dispatchPairs) {
             params.pairOffset = uint32_t(first);
@@ -202,9 +203,54 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
             });
         }
         download(context_, resultBuffer, out.data(), out.size_bytes());
+    };
+    // Pairs with rays: V_ij first, then the quadrature only for the pairs some ray reaches, and
+    // F = factor * V in float, as pairEntry rounds it (shared/pair_kernel.h).
+    std::vector<PairFactors> visibility, factors;
+    std::vector<PairIndex> open;
+    std::vector<uint32_t> openSlot;
+    double factorSeconds = 0, visibilitySeconds = 0;
+    uint64_t tracedPairs = 0, openPairs = 0;
+    const PairKernelBatch evaluate = [&](std::span<const PairIndex> pairs, int rays,
+                                         std::span<PairFactors> out) -> Expected<void> {
+        params.rays = rays;
+        if (rays == 0) {
+            const auto start = Clock::now();
+            run(pairs, DAISY_PAIR_MODE_FACTORS, out);
+            factorSeconds += secondsSince(start);
+            return {};
+        }
+        auto start = Clock::now();
+        visibility.resize(pairs.size());
+        run(pairs, DAISY_PAIR_MODE_VISIBILITY, visibility);
+        visibilitySeconds += secondsSince(start);
+        open.clear();
+        openSlot.clear();
+        for (std::size_t k = 0; k < pairs.size(); ++k) {
+            out[k] = PairFactors{0.0f, 0.0f};
+            if (visibility[k].fij > 0.0f) {
+                open.push_back(pairs[k]);
+                openSlot.push_back(uint32_t(k));
+            }
+        }
+        tracedPairs += pairs.size();
+        openPairs += open.size();
+        if (open.empty()) return {};
+        start = Clock::now();
+        factors.resize(open.size());
+        run(open, DAISY_PAIR_MODE_FACTORS, factors);
+        for (std::size_t k = 0; k < open.size(); ++k) {
+            const float v = visibility[openSlot[k]].fij;
+            out[openSlot[k]] = PairFactors{factors[k].fij * v, factors[k].fji * v};
+        }
+        factorSeconds += secondsSince(start);
         return {};
     };
     auto result = buildFromPairBatches(mesh, settings, "vulkan", batchPairs, evaluate);
+    logVerbose(concat("vulkan: ", formatCount(tracedPairs), " traced pairs' visibility in ",
+                      formatDuration(visibilitySeconds), ", the factors of ",
+                      formatCount(openPairs), " of them and of every clear pair in ",
+                      formatDuration(factorSeconds)));
     release();
     return result;
 }
