@@ -303,12 +303,22 @@ DAISY_HD float hybridPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(P
             cellCorners(uint(t), level, a, b, c);
             vec3 x = (a + b + c) * (1.0f / 3.0f);
             float ratio = distanceLowerBound(x, j, jCentre, jRadius) / (rootDiameter * levelScale);
+            // The centroid rule (far) or threePointRule, summed in one loop: one call site, so
+            // a SIMD device evaluates 1 point a cell where all its lanes are far, not 4.
+            int points = ratio >= DAISY_FF_FAR_RATIO ? 1 : 3;
+            vec3 s = a + b + c;
+            float sum = 0.0f;
+            for (int q = 0; q < points; ++q) {
+                vec3 corner = q == 0 ? a : (q == 1 ? b : c);
+                vec3 p = points == 1 ? x : (s + corner * 3.0f) * (1.0f / 6.0f);
+                sum += pointToTriangleFactor(p, i.normal, j);
+            }
             if (ratio >= DAISY_FF_FAR_RATIO) {
-                fixedPart += share * pointToTriangleFactor(x, i.normal, j);
+                fixedPart += share * sum;
             } else if (ratio >= DAISY_FF_MID_RATIO) {
-                fixedPart += share * threePointRule(a, b, c, i.normal, j);
+                fixedPart += share * (sum * (1.0f / 3.0f));
             } else {
-                float value = threePointRule(a, b, c, i.normal, j);
+                float value = sum * (1.0f / 3.0f);
                 if (count < DAISY_FF_MAX_CELLS) {
                     list[count].code = uint(t);
                     list[count].depth = level;
