@@ -2,7 +2,9 @@
 // the one driver sends through buildFromPairBatches (backend/pair_batches.h: only the pairs no
 // culling decided; clear-shaft pairs without rays) uploads the pairs, runs
 // shaders/form_factors.comp.glsl over them in dispatches short enough for a display watchdog, and
-// downloads the factors. Every buffer stays within the device's maxStorageBufferRange (128 MiB on
+// downloads the factors: pairs with rays in two passes, V first and then the quadrature for the
+// pairs some segment gets through, each pass a pipeline specialised to the method, level and mode
+// (docs/backends.md). Every buffer stays within the device's maxStorageBufferRange (128 MiB on
 // lavapipe): batches are sized to it, and a scene whose patch or BVH arrays exceed it is refused.
 #include "vulkan/vulkan_backend.h"
 
