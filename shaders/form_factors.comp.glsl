@@ -1,8 +1,8 @@
 // The pair kernel (DESIGN.md section 8): one invocation per unordered pair of this dispatch. main()
-// only unpacks ids and calls the shared pairEntry (src/shared/pair_kernel.h), the same function
-// the reference backend runs on the CPU. Inputs are the push constants (PairKernelParams,
-// gpu_types.h): buffer device addresses of the patches, the flat BVH and this batch's pairs and
-// results.
+// only unpacks ids and calls the shared pairEntry or pairEntryVisibility
+// (src/shared/pair_kernel.h), the functions the reference backend runs on the CPU. Inputs are the
+// push constants (PairKernelParams, gpu_types.h): buffer device addresses of the patches, the flat
+// BVH and this batch's pairs and results.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_buffer_reference : require
@@ -14,6 +14,14 @@
 #include "shared/pair_kernel.h"
 
 layout(local_size_x = DAISY_PAIR_WORKGROUP_SIZE) in;
+
+// Specialised per build (vulkan_backend.cpp): the method and the level fold to constants, so a
+// pipeline holds only its method's kernel, and kMode picks the unoccluded factors
+// (DAISY_PAIR_MODE_FACTORS, no BVH code) or V_ij alone (DAISY_PAIR_MODE_VISIBILITY, no
+// quadrature). It matters on lavapipe, which runs both sides of every branch (masked SIMD).
+layout(constant_id = 0) const int kMethod = DAISY_METHOD_HYBRID;
+layout(constant_id = 1) const int kLevel = DAISY_DEFAULT_QUADRATURE_LEVEL;
+layout(constant_id = 2) const int kMode = DAISY_PAIR_MODE_FACTORS;
 
 layout(push_constant, scalar) uniform Push {
     PairKernelParams params;
@@ -31,8 +39,17 @@ void main() {
     const uint slot = params.pairOffset + k;
     const PairIndex pair = KernelPairs(params.pairs).v[slot];
     KernelPatches patches = KernelPatches(params.patches);
-    KernelResults(params.results).v[slot] =
-        pairEntry(pair.i, pair.j, patches.v[pair.i], patches.v[pair.j], params.method, params.level,
-                  params.rays, params.seed, params.clearance, BvhNodeBuffer(params.nodes),
-                  BvhTriangleBuffer(params.triangles));
+    BvhNodeBuffer nodes = BvhNodeBuffer(params.nodes);
+    BvhTriangleBuffer triangles = BvhTriangleBuffer(params.triangles);
+    PairFactors f;
+    if (kMode == DAISY_PAIR_MODE_VISIBILITY) {
+        float v = pairEntryVisibility(pair.i, pair.j, patches.v[pair.i], patches.v[pair.j],
+                                      params.rays, params.seed, params.clearance, nodes, triangles);
+        f.fij = v;
+        f.fji = v;
+    } else {
+        f = pairEntry(pair.i, pair.j, patches.v[pair.i], patches.v[pair.j], kMethod, kLevel, 0,
+                      params.seed, params.clearance, nodes, triangles);
+    }
+    KernelResults(params.results).v[slot] = f;
 }

@@ -42,6 +42,12 @@
 // margin of the cpu backend's Embree rays (RayCaster::kSegmentMargin), so both test the same span.
 #define DAISY_SEGMENT_MARGIN 1.0e-5f
 
+// What one specialisation of the pair kernel (shaders/form_factors.comp.glsl) computes per pair:
+// the unoccluded factors alone, or V_ij alone (in both fields), so that the vulkan backend runs
+// the quadrature only for pairs some ray reaches (lavapipe runs every branch of a shader).
+#define DAISY_PAIR_MODE_FACTORS 0
+#define DAISY_PAIR_MODE_VISIBILITY 1
+
 // Invocations per workgroup of the pair kernel (shaders/form_factors.comp.glsl); the host
 // dispatches ceil(pairCount / DAISY_PAIR_WORKGROUP_SIZE) groups.
 #define DAISY_PAIR_WORKGROUP_SIZE 64

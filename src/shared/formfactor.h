@@ -236,60 +236,36 @@ DAISY_HD bool cellHasCorner(uint code, int depth, uint mask) {
     return false;
 }
 
-// One cell of the hybrid refinement list: where it is, and threePointRule on each of its 4
-// children (their mean is the cell's estimate of the mean of f). 28 bytes.
+// One cell of the hybrid refinement list: where it is, threePointRule on the cell itself and on
+// each of its 4 children (their mean is the cell's estimate of the mean of f). 32 bytes.
 struct QuadratureCell {
     uint code;  // path from its root triangle, 2 bits a level (cellCorners)
     int depth;  // levels below the root triangle
     int root;  // which triangle of the clipped piece (0 or 1)
+    float value;  // threePointRule on the cell, mean of f (dimensionless)
     float child0;  // threePointRule on child 0..3, mean of f (dimensionless)
     float child1;
     float child2;
     float child3;
 };
 
-// Evaluates cell (code, depth) of root triangle (ra, rb, rc) into `cell`, given `value`, the
-// threePointRule on the cell itself, and returns its error estimate as a fraction of A_i:
-// share * |children's mean - value| with share = A_cell / A_i, the classic comparison of a rule
-// on a cell and on its children. At a vertex shared with j, f depends on the direction only, so
-// that difference can vanish by accident at every scale: there the estimate is at least
-// share * (largest child deviation) / 16.
-DAISY_HD float evaluateCell(uint code, int depth, int root, float value, vec3 ra, vec3 rb, vec3 rc,
-                            float share, uint sharedCorners, DAISY_IN(PatchGeometry) i,
-                            DAISY_IN(PatchGeometry) j, DAISY_INOUT(QuadratureCell) cell) {
-    vec3 a = ra;
-    vec3 b = rb;
-    vec3 c = rc;
-    cellCorners(code, depth, a, b, c);
-    float childValue[4];
-    for (int d = 0; d < 4; ++d) {
-        vec3 ca = a;
-        vec3 cb = b;
-        vec3 cc = c;
-        selectSubTriangle(uint(d), ca, cb, cc);
-        childValue[d] = threePointRule(ca, cb, cc, i.normal, j);
-    }
-    cell.code = code;
-    cell.depth = depth;
-    cell.root = root;
-    cell.child0 = childValue[0];
-    cell.child1 = childValue[1];
-    cell.child2 = childValue[2];
-    cell.child3 = childValue[3];
-    float mean = 0.25f * (childValue[0] + childValue[1] + childValue[2] + childValue[3]);
-    float error = share * abs(mean - value);
-    if (sharedCorners != 0u && cellHasCorner(code, depth, sharedCorners)) {
-        float deviation = 0.0f;
-        for (int d = 0; d < 4; ++d) {
-            deviation = max(deviation, abs(childValue[d] - value));
-        }
+DAISY_HD float cellMean(DAISY_IN(QuadratureCell) cell) {
+    return 0.25f * (cell.child0 + cell.child1 + cell.child2 + cell.child3);
+}
+
+// The error estimate of an evaluated cell as a fraction of A_i, given share = A_cell / A_i:
+// share * |children's mean - value|, the classic comparison of a rule on a cell and on its
+// children. At a vertex shared with j (a root corner in sharedCorners), f depends on the
+// direction only, so that difference can vanish by accident at every scale: there the estimate
+// is at least share * (largest child deviation) / 16.
+DAISY_HD float cellError(DAISY_IN(QuadratureCell) cell, float share, uint sharedCorners) {
+    float error = share * abs(cellMean(cell) - cell.value);
+    if (sharedCorners != 0u && cellHasCorner(cell.code, cell.depth, sharedCorners)) {
+        float deviation = max(max(abs(cell.child0 - cell.value), abs(cell.child1 - cell.value)),
+                              max(abs(cell.child2 - cell.value), abs(cell.child3 - cell.value)));
         error = max(error, share * deviation * (1.0f / 16.0f));
     }
     return error;
-}
-
-DAISY_HD float cellMean(DAISY_IN(QuadratureCell) cell) {
-    return 0.25f * (cell.child0 + cell.child1 + cell.child2 + cell.child3);
 }
 
 // hybrid (Baum, Rushmeier & Winget 1989): F_ij = (1/A_i) integral over i of f(x), the
@@ -298,12 +274,16 @@ DAISY_HD float cellMean(DAISY_IN(QuadratureCell) cell) {
 // to j in cell diameters (distanceLowerBound): from DAISY_FF_FAR_RATIO on, its centroid value;
 // from DAISY_FF_MID_RATIO on, threePointRule; nearer, the cell joins a globally adaptive scheme
 // (as in QUADPACK's qag, Piessens et al. 1983): each listed cell carries the mean of its children's
-// threePointRule and an error estimate (evaluateCell); while the summed estimate exceeds
+// threePointRule and an error estimate (cellError); while the summed estimate exceeds
 // DAISY_FF_REL_TOL times the current F_ij, the cell with the largest estimate is split into its
 // children. f stays finite at a shared edge (its gradient has a log singularity) and depends only
 // on the direction at a shared vertex, so the refinement converges there too. The list holds
 // DAISY_FF_MAX_CELLS cells; when full (or a cell reaches DAISY_FF_MAX_DEPTH) refinement stops.
-// Near cells beyond 3/4 of the list (only for L >= 3) keep their children's mean unrefined.
+// Near cells beyond 3/4 of the list (only for L >= 3) keep their children's mean unrefined, and
+// beyond the whole list (only for L >= 4) their own threePointRule.
+// Listed cells are evaluated one child (one threePointRule) at a time in a single loop: a SIMD
+// device that runs every branch (lavapipe) or waits for its slowest lane (any GPU) then pays for
+// the children a pair really needs, not for every call site of the rule.
 // Preconditions: i.area > 0, j.area > 0.
 DAISY_HD float hybridPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j) {
     ClippedPolygon piece = clipTriangleToHalfSpace(i.a, i.b, i.c, j.a, j.normal);
@@ -313,6 +293,7 @@ DAISY_HD float hybridPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(P
     float fixedPart = 0.0f;  // sum of share * mean over cells integrated by a fixed rule
     QuadratureCell list[DAISY_FF_MAX_CELLS];
     float listError[DAISY_FF_MAX_CELLS];
+    float listPart[DAISY_FF_MAX_CELLS];  // share * cellMean of each listed cell
     int count = 0;
     float rootArea[2];
     uint rootShared[2];
@@ -333,31 +314,94 @@ DAISY_HD float hybridPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(P
             cellCorners(uint(t), level, a, b, c);
             vec3 x = (a + b + c) * (1.0f / 3.0f);
             float ratio = distanceLowerBound(x, j, jCentre, jRadius) / (rootDiameter * levelScale);
+            // The centroid rule (far) or threePointRule, summed in one loop: one call site, so
+            // a SIMD device evaluates 1 point a cell where all its lanes are far, not 4.
+            int points = ratio >= DAISY_FF_FAR_RATIO ? 1 : 3;
+            vec3 s = a + b + c;
+            float sum = 0.0f;
+            for (int q = 0; q < points; ++q) {
+                vec3 corner = q == 0 ? a : (q == 1 ? b : c);
+                vec3 p = points == 1 ? x : (s + corner * 3.0f) * (1.0f / 6.0f);
+                sum += pointToTriangleFactor(p, i.normal, j);
+            }
             if (ratio >= DAISY_FF_FAR_RATIO) {
-                fixedPart += share * pointToTriangleFactor(x, i.normal, j);
+                fixedPart += share * sum;
             } else if (ratio >= DAISY_FF_MID_RATIO) {
-                fixedPart += share * threePointRule(a, b, c, i.normal, j);
+                fixedPart += share * (sum * (1.0f / 3.0f));
             } else {
-                float value = threePointRule(a, b, c, i.normal, j);
-                int slot = min(count, DAISY_FF_MAX_CELLS - 1);
-                listError[slot] = evaluateCell(uint(t), level, r, value, ra, rb, rc, share,
-                                               rootShared[r], i, j, list[slot]);
-                if (4 * count < 3 * DAISY_FF_MAX_CELLS) {
+                float value = sum * (1.0f / 3.0f);
+                if (count < DAISY_FF_MAX_CELLS) {
+                    list[count].code = uint(t);
+                    list[count].depth = level;
+                    list[count].root = r;
+                    list[count].value = value;
                     count += 1;
                 } else {
-                    fixedPart += share * cellMean(list[slot]);
+                    fixedPart += share * value;
                 }
             }
         }
     }
+    // Listed cells whose children are still to be evaluated: `current` (child `unit` next),
+    // then slot `pendingFirst` when >= 0, then the slots [pendingNext, pendingEnd).
+    int pendingFirst = -1;
+    int pendingNext = 0;
+    int pendingEnd = count;
+    int current = -1;
+    int unit = 0;
+    vec3 ca = vec3(0.0f);
+    vec3 cb = vec3(0.0f);
+    vec3 cc = vec3(0.0f);
+    float childValue[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    int keep = min(count, (3 * DAISY_FF_MAX_CELLS) / 4);
     while (true) {
+        while (true) {
+            if (current < 0) {
+                if (pendingFirst >= 0) {
+                    current = pendingFirst;
+                    pendingFirst = -1;
+                } else if (pendingNext < pendingEnd) {
+                    current = pendingNext;
+                    pendingNext += 1;
+                } else {
+                    break;
+                }
+                unit = 0;
+                int r = list[current].root;
+                ca = piece.v[0];
+                cb = piece.v[r + 1];
+                cc = piece.v[r + 2];
+                cellCorners(list[current].code, list[current].depth, ca, cb, cc);
+            }
+            vec3 a = ca;
+            vec3 b = cb;
+            vec3 c = cc;
+            selectSubTriangle(uint(unit), a, b, c);
+            childValue[unit] = threePointRule(a, b, c, i.normal, j);
+            unit += 1;
+            if (unit == 4) {
+                list[current].child0 = childValue[0];
+                list[current].child1 = childValue[1];
+                list[current].child2 = childValue[2];
+                list[current].child3 = childValue[3];
+                int r = list[current].root;
+                float share = rootArea[r] / i.area / float(1 << (2 * list[current].depth));
+                listError[current] = cellError(list[current], share, rootShared[r]);
+                listPart[current] = share * cellMean(list[current]);
+                current = -1;
+            }
+        }
+        // Near cells past 3/4 of the list keep their children's mean (only for L >= 3).
+        for (int k = keep; k < count; ++k) {
+            fixedPart += listPart[k];
+        }
+        count = keep;
         float total = fixedPart;
         float errorSum = 0.0f;
         int worst = -1;
         float worstError = 0.0f;
         for (int k = 0; k < count; ++k) {
-            float share = rootArea[list[k].root] / i.area / float(1 << (2 * list[k].depth));
-            total += share * cellMean(list[k]);
+            total += listPart[k];
             errorSum += listError[k];
             if (listError[k] > worstError && list[k].depth + 1 < DAISY_FF_MAX_DEPTH) {
                 worst = k;
@@ -368,19 +412,19 @@ DAISY_HD float hybridPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(P
             return total;
         }
         QuadratureCell parent = list[worst];
-        int r = parent.root;
-        vec3 ra = piece.v[0];
-        vec3 rb = piece.v[r + 1];
-        vec3 rc = piece.v[r + 2];
-        float childShare = rootArea[r] / i.area / float(1 << (2 * (parent.depth + 1)));
-        float childValue[4] = {parent.child0, parent.child1, parent.child2, parent.child3};
+        float parentChild[4] = {parent.child0, parent.child1, parent.child2, parent.child3};
         for (int d = 0; d < 4; ++d) {
             int slot = d == 0 ? worst : count + d - 1;
-            uint code = parent.code | (uint(d) << uint(2 * parent.depth));
-            listError[slot] = evaluateCell(code, parent.depth + 1, r, childValue[d], ra, rb, rc,
-                                           childShare, rootShared[r], i, j, list[slot]);
+            list[slot].code = parent.code | (uint(d) << uint(2 * parent.depth));
+            list[slot].depth = parent.depth + 1;
+            list[slot].root = parent.root;
+            list[slot].value = parentChild[d];
         }
+        pendingFirst = worst;
+        pendingNext = count;
+        pendingEnd = count + 3;
         count += 3;
+        keep = count;
     }
     return 0.0f;
 }

@@ -65,8 +65,8 @@ struct PairKernelParams {
     uint64_t results;  // address of PairFactors[], this batch, same indices as pairs
     uint pairOffset;  // first pair of this dispatch within the batch
     uint pairCount;  // pairs of this dispatch
-    int method;  // DAISY_METHOD_*
-    int level;  // quadrature level L
+    int method;  // DAISY_METHOD_* (the GLSL kernel takes it as a specialisation constant)
+    int level;  // quadrature level L (likewise)
     int rays;  // K shadow segments per pair; 0 = no visibility (V = 1)
     uint seed;  // 32-bit seed of the per-pair sample sequence (rng.h pairSeed)
     float clearance;  // relative end clearance of shadow segments (pairClearance, visibility.h)

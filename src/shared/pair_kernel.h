@@ -22,7 +22,20 @@ DAISY_SHARED_BEGIN
 // unoccluded factor is 0 (facing-away pairs included). method is DAISY_METHOD_RIEMANN, _NUSSELT
 // or _HYBRID (stochastic has no pair kernel: 0). seed is the 32-bit seed; the segments' end
 // clearance is pairClearance(clearanceRelative, gi, gj) (visibility.h). fij * V is rounded once for
-// power-of-two rays, as the cpu driver's float(double(fij) * open / K).
+// power-of-two rays, as the cpu driver's float(double(fij) * open / K). A backend may compute
+// the two factors apart (pairEntry with rays = 0 and pairEntryVisibility) and multiply them in
+// float: the same result.
+// V_ij of the pair (i, j) (patch indices, i < j as the driver passes them) with geometry gi, gj:
+// pairVisibility of `rays` (>= 1) shadow segments seeded by pairSeed(i, j, seed), end clearance
+// pairClearance(clearanceRelative, gi, gj) (visibility.h).
+DAISY_HD float pairEntryVisibility(uint i, uint j, DAISY_IN(PatchGeometry) gi,
+                                   DAISY_IN(PatchGeometry) gj, int rays, uint seed,
+                                   float clearanceRelative, BvhNodeBuffer nodes,
+                                   BvhTriangleBuffer triangles) {
+    float clearance = pairClearance(clearanceRelative, gi, gj);
+    return pairVisibility(pairSeed(i, j, seed), rays, gi, gj, clearance, nodes, triangles);
+}
+
 DAISY_HD PairFactors pairEntry(uint i, uint j, DAISY_IN(PatchGeometry) gi,
                                DAISY_IN(PatchGeometry) gj, int method, int level, int rays,
                                uint seed, float clearanceRelative, BvhNodeBuffer nodes,
@@ -31,8 +44,8 @@ DAISY_HD PairFactors pairEntry(uint i, uint j, DAISY_IN(PatchGeometry) gi,
     f.fij = max(0.0f, f.fij);
     f.fji = max(0.0f, f.fji);
     if (rays > 0 && (f.fij > 0.0f || f.fji > 0.0f)) {
-        float clearance = pairClearance(clearanceRelative, gi, gj);
-        float v = pairVisibility(pairSeed(i, j, seed), rays, gi, gj, clearance, nodes, triangles);
+        float v =
+            pairEntryVisibility(i, j, gi, gj, rays, seed, clearanceRelative, nodes, triangles);
         f.fij = f.fij * v;
         f.fji = f.fji * v;
     }

@@ -1,12 +1,15 @@
 #include "vulkan/pipelines.h"
 
+#include <vector>
+
 #include "core/check.h"
 #include "vulkan/vk_check.h"
 
 namespace daisy {
 
 ComputePipeline createComputePipeline(const VulkanContext& context, std::span<const uint32_t> spirv,
-                                      uint32_t pushConstantBytes) {
+                                      uint32_t pushConstantBytes,
+                                      std::span<const int32_t> specialization) {
     DAISY_CHECK(!spirv.empty());
     DAISY_CHECK_OP(pushConstantBytes, <=, context.properties.limits.maxPushConstantsSize);
     ComputePipeline result;
@@ -29,6 +32,13 @@ ComputePipeline createComputePipeline(const VulkanContext& context, std::span<co
     pipelineInfo.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
     pipelineInfo.stage.module = module;
     pipelineInfo.stage.pName = "main";
+    std::vector<VkSpecializationMapEntry> entries;
+    for (uint32_t id = 0; id < specialization.size(); ++id)
+        entries.push_back({id, uint32_t(id * sizeof(int32_t)), sizeof(int32_t)});
+    const VkSpecializationInfo specializationInfo{uint32_t(entries.size()), entries.data(),
+                                                  specialization.size_bytes(),
+                                                  specialization.data()};
+    if (!specialization.empty()) pipelineInfo.stage.pSpecializationInfo = &specializationInfo;
     pipelineInfo.layout = result.layout;
     VK_CHECK(vkCreateComputePipelines(context.device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr,
                                       &result.pipeline));

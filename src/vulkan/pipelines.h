@@ -23,9 +23,11 @@ struct ComputePipeline {
 std::span<const uint32_t> embeddedSpirv(std::string_view name);
 
 // A compute pipeline over `spirv` (entry point "main") with a push-constant range of
-// pushConstantBytes (<= maxPushConstantsSize) bytes.
+// pushConstantBytes (<= maxPushConstantsSize) bytes. specialization[k] is the value of the
+// 32-bit specialization constant with constant_id k (the shader's defaults where absent).
 ComputePipeline createComputePipeline(const VulkanContext& context, std::span<const uint32_t> spirv,
-                                      uint32_t pushConstantBytes);
+                                      uint32_t pushConstantBytes,
+                                      std::span<const int32_t> specialization = {});
 void destroyComputePipeline(const VulkanContext& context, ComputePipeline& pipeline);
 
 }  // namespace daisy

@@ -2,17 +2,23 @@
 // the one driver sends through buildFromPairBatches (backend/pair_batches.h: only the pairs no
 // culling decided; clear-shaft pairs without rays) uploads the pairs, runs
 // shaders/form_factors.comp.glsl over them in dispatches short enough for a display watchdog, and
-// downloads the factors. Every buffer stays within the device's maxStorageBufferRange (128 MiB on
+// downloads the factors: pairs with rays in two passes, V first and then the quadrature for the
+// pairs some segment gets through, each pass a pipeline specialised to the method, level and mode
+// (docs/backends.md). Every buffer stays within the device's maxStorageBufferRange (128 MiB on
 // lavapipe): batches are sized to it, and a scene whose patch or BVH arrays exceed it is refused.
 #include "vulkan/vulkan_backend.h"
 
 #include <algorithm>
+#include <array>
+#include <map>
 #include <tuple>
 #include <vector>
 
 #include "backend/pair_batches.h"
 #include "core/log.h"
+#include "core/progress.h"
 #include "core/strings.h"
+#include "core/timer.h"
 #include "geometry/flat_bvh.h"
 #include "radiosity/form_factors_internal.h"
 #include "radiosity/pair_evaluator.h"
@@ -45,12 +51,10 @@ constexpr uint64_t kDispatchWork = uint64_t(1) << 22;
 class VulkanBackend : public Backend {
 public:
     VulkanBackend(VulkanContext context, const VulkanBackendLimits& limits)
-        : context_(context), limits_(limits) {
-        pipeline_ = createComputePipeline(context_, embeddedSpirv("form_factors.comp"),
-                                          sizeof(PairKernelParams));
-    }
+        : context_(context), limits_(limits) {}
     ~VulkanBackend() override {
-        destroyComputePipeline(context_, pipeline_);
+        for (auto& [key, pipeline] : pipelines_)
+            destroyComputePipeline(context_, pipeline);
         destroyContext(context_);
     }
     VulkanBackend(const VulkanBackend&) = delete;
@@ -71,9 +75,24 @@ private:
     Expected<VulkanBuffer> uploadArray(const void* data, std::size_t bytes, const char* what,
                                        std::size_t count);
 
+    // The pair kernel specialised to (method constant, level, DAISY_PAIR_MODE_*)
+    // (shaders/form_factors.comp.glsl), compiled on first use and kept for the next build.
+    const ComputePipeline& pipeline(int method, int level, int mode) {
+        const std::array<int32_t, 3> key{method, level, mode};
+        auto found = pipelines_.find(key);
+        if (found == pipelines_.end()) {
+            found = pipelines_
+                        .emplace(key,
+                                 createComputePipeline(context_, embeddedSpirv("form_factors.comp"),
+                                                       sizeof(PairKernelParams), key))
+                        .first;
+        }
+        return found->second;
+    }
+
     VulkanContext context_;
     VulkanBackendLimits limits_;
-    ComputePipeline pipeline_;
+    std::map<std::array<int32_t, 3>, ComputePipeline> pipelines_;
 };
 
 Expected<VulkanBuffer> VulkanBackend::uploadArray(const void* data, std::size_t bytes,
@@ -153,9 +172,9 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
     params.seed = detail::seed32(settings.seed);  // as the cpu and reference backends fold it
     params.clearance = kEndClearanceRelative;
 
-    const PairKernelBatch evaluate = [&](std::span<const PairIndex> pairs, int rays,
-                                         std::span<PairFactors> out) -> Expected<void> {
-        params.rays = rays;
+    // Runs the kernel in `mode` over pairs (at most batchPairs) into out.
+    const auto run = [&](std::span<const PairIndex> pairs, int mode, std::span<PairFactors> out) {
+        const ComputePipeline& kernel = pipeline(params.method, params.level, mode);
         upload(context_, pairBuffer, pairs.data(), pairs.size_bytes());
         for (std::size_t first = 0; first < pairs.size(); first += dispatchPairs) {
             params.pairOffset = uint32_t(first);
@@ -164,8 +183,8 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
                 (params.pairCount + DAISY_PAIR_WORKGROUP_SIZE - 1) / DAISY_PAIR_WORKGROUP_SIZE;
             // One submission per dispatch: a watchdog sees one short job at a time.
             submitAndWait(context_, [&](VkCommandBuffer commands) {
-                vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.pipeline);
-                vkCmdPushConstants(commands, pipeline_.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.pipeline);
+                vkCmdPushConstants(commands, kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
                                    sizeof params, &params);
                 vkCmdDispatch(commands, groups, 1, 1);
                 VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
@@ -177,9 +196,54 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
             });
         }
         download(context_, resultBuffer, out.data(), out.size_bytes());
+    };
+    // Pairs with rays: V_ij first, then the quadrature only for the pairs some ray reaches, and
+    // F = factor * V in float, as pairEntry rounds it (shared/pair_kernel.h).
+    std::vector<PairFactors> visibility, factors;
+    std::vector<PairIndex> open;
+    std::vector<uint32_t> openSlot;
+    double factorSeconds = 0, visibilitySeconds = 0;
+    uint64_t tracedPairs = 0, openPairs = 0;
+    const PairKernelBatch evaluate = [&](std::span<const PairIndex> pairs, int rays,
+                                         std::span<PairFactors> out) -> Expected<void> {
+        params.rays = rays;
+        if (rays == 0) {
+            const auto start = Clock::now();
+            run(pairs, DAISY_PAIR_MODE_FACTORS, out);
+            factorSeconds += secondsSince(start);
+            return {};
+        }
+        auto start = Clock::now();
+        visibility.resize(pairs.size());
+        run(pairs, DAISY_PAIR_MODE_VISIBILITY, visibility);
+        visibilitySeconds += secondsSince(start);
+        open.clear();
+        openSlot.clear();
+        for (std::size_t k = 0; k < pairs.size(); ++k) {
+            out[k] = PairFactors{0.0f, 0.0f};
+            if (visibility[k].fij > 0.0f) {
+                open.push_back(pairs[k]);
+                openSlot.push_back(uint32_t(k));
+            }
+        }
+        tracedPairs += pairs.size();
+        openPairs += open.size();
+        if (open.empty()) return {};
+        start = Clock::now();
+        factors.resize(open.size());
+        run(open, DAISY_PAIR_MODE_FACTORS, factors);
+        for (std::size_t k = 0; k < open.size(); ++k) {
+            const float v = visibility[openSlot[k]].fij;
+            out[openSlot[k]] = PairFactors{factors[k].fij * v, factors[k].fji * v};
+        }
+        factorSeconds += secondsSince(start);
         return {};
     };
     auto result = buildFromPairBatches(mesh, settings, "vulkan", batchPairs, evaluate);
+    logVerbose(concat("vulkan: ", formatCount(tracedPairs), " traced pairs' visibility in ",
+                      formatDuration(visibilitySeconds), ", the factors of ",
+                      formatCount(openPairs), " of them and of every clear pair in ",
+                      formatDuration(factorSeconds)));
     release();
     return result;
 }
