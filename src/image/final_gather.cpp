@@ -4,12 +4,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
 
 #include "backend/embree_ray_caster.h"
 #include "core/check.h"
 #include "core/strings.h"
 #include "image/camera.h"
+#include "image/emitter_lights.h"
 #include "image/pixel_samples.h"
 #include "shared/formfactor.h"
 #include "shared/rng.h"
@@ -38,20 +40,32 @@ struct Light {
     double power;
 };
 
+// The emitting source triangles of the scene, coplanar faces merged (image/emitter_lights.h).
 std::vector<Light> lightsOf(const Scene& scene, const PatchMesh& patches,
                             const RadiositySystem& system) {
-    std::vector<Light> lights;
-    std::vector<bool> seen(scene.mesh.triangleCount(), false);
+    std::vector<uint32_t> triangles, emissionClass;
+    std::vector<uint32_t> patchOf(scene.mesh.triangleCount(), kNoPatch);
+    std::map<std::vector<double>, uint32_t> classes;
     for (uint32_t p = 0; p < patches.patchCount(); ++p) {
         const uint32_t t = patches.sourceTriangle[p];
-        if (seen[t] || !emits(system, p)) continue;
-        seen[t] = true;
-        lights.push_back({shared::makePatchGeometry(toVec3(scene.mesh.corner(t, 0)),
-                                                    toVec3(scene.mesh.corner(t, 1)),
-                                                    toVec3(scene.mesh.corner(t, 2))),
-                          system.emissionRow(p), 0.0});
+        if (patchOf[t] != kNoPatch || !emits(system, p)) continue;
+        patchOf[t] = p;
+        triangles.push_back(t);
+        const double* e = system.emissionRow(p);
+        emissionClass.push_back(
+            classes.emplace(std::vector<double>(e, e + system.wavelengthCount), classes.size())
+                .first->second);
+    }
+    std::vector<Light> lights;
+    for (const LightTriangle& light : mergeEmitterFaces(scene.mesh, triangles, emissionClass)) {
+        const double* emission = system.emissionRow(patchOf[light.sourceTriangle]);
+        double power = 0;
         for (std::size_t k = 0; k < system.wavelengthCount; ++k)
-            lights.back().power += system.emissionRow(p)[k] * system.binWidthsNm[k];
+            power += emission[k] * system.binWidthsNm[k];
+        lights.push_back(
+            {shared::makePatchGeometry(toVec3(light.corners[0]), toVec3(light.corners[1]),
+                                       toVec3(light.corners[2])),
+             emission, power});
     }
     return lights;
 }
@@ -208,8 +222,9 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
     };
     const int maxK = raysPerSample(minSide * minSide);
     const uint32_t imageSeed = shared::pcgHash(direct.seed ^ 0x2545f491u);
-    // Few lights: the exact factor of each, per sample. Many (a tube of 176 triangles): a cheap
-    // approximation picks the lights and only the picked ones get the exact factor.
+    // Few lights: the exact factor of each, per sample. Many (over kExactLightLimit after the
+    // faces are merged): a cheap approximation picks the lights and only the picked ones get
+    // the exact factor.
     const bool exactWeights = lights.size() <= kExactLightLimit;
 
     const auto renderRows = [&](const tbb::blocked_range<int>& rows) {

@@ -11,13 +11,14 @@
 // contour formula, shared/formfactor.h, clipped to x's front half-space) and V(x, l) the
 // visibility, estimated by K shadow segments per sample drawn over the lights in proportion to
 // F(x -> l) times l's power (stratified over that distribution: a scene of two light triangles
-// gives each K / 2, a tube of 176 triangles spreads them by contribution) to stratified points
-// on the chosen triangle. Unbiased for sum E F V; exact where every segment is open. Over 32
-// light triangles the draw uses a cheap point-source stand-in for F and each drawn segment
-// carries its light's exact F over that stand-in (importance sampling; still unbiased, no
-// longer exact where unoccluded). Deterministic:
-// the points come from a hash of (seed, pixel, sample, light), so the image has no noise from run
-// to run.
+// gives each K / 2, the black-light tubes' 20 lights get them by contribution) to stratified
+// points on the chosen triangle. The lights are the emitting source triangles with each flat
+// convex face of one emission merged into a fan over its outline (image/emitter_lights.h: the
+// tubes' 176 triangles are 20 lights), which changes no factor. Unbiased for sum E F V; exact where
+// every segment is open. Over 32 light triangles the draw uses a cheap point-source stand-in for F
+// and each drawn segment carries its light's exact F over that stand-in (importance sampling; still
+// unbiased, no longer exact where unoccluded). Deterministic: the points come from a hash of (seed,
+// pixel, sample, light), so the image has no noise from run to run.
 #include <cstdint>
 #include <span>
 #include <string>
@@ -55,9 +56,9 @@ std::vector<float> radiosityChannels(const WavelengthSet& set, std::span<const d
 // The direct term M_i H(x) / pi per pixel, on the renderer's sample positions (stratum centres,
 // image/pixel_samples.h, per pixel settings.pixelSides when given: edge_sampling.h) and box
 // filter, in the channels of radiosityChannels (coverage 0).
-// Lights are the emitting triangles of scene.mesh. Fails (no crash) on what renderCornerValues
-// refuses. `shader` (renderCornerValues's) moves hits to back patches and puts the texture
-// detail on each sample's direct light.
+// Lights are the emitting triangles of scene.mesh, faces merged (emitter_lights.h). Fails (no
+// crash) on what renderCornerValues refuses. `shader` (renderCornerValues's) moves hits to back
+// patches and puts the texture detail on each sample's direct light.
 Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                                   const RadiositySystem& system, const WavelengthSet& set,
                                   const Camera& camera, const RenderSettings& settings,

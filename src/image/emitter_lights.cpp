@@ -1,0 +1,152 @@
+#include "image/emitter_lights.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <utility>
+
+#include "core/check.h"
+
+namespace daisy {
+
+namespace {
+
+// Union-find root with path halving.
+uint32_t root(std::vector<uint32_t>& parent, uint32_t i) {
+    while (parent[i] != i) {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    return i;
+}
+
+// The convex loop (vertex ids, counter-clockwise about `normal`) bounding the group `members`
+// (indices into `corners`), or empty when the boundary is not one simple convex loop whose area
+// matches the group's.
+std::vector<uint32_t> convexBoundary(const std::vector<std::array<uint32_t, 3>>& ids,
+                                     const std::vector<Vec3d>& points,
+                                     const std::vector<uint32_t>& members, const Vec3d& normal,
+                                     double groupArea) {
+    std::map<std::pair<uint32_t, uint32_t>, int> edges;  // directed edge -> count
+    for (const uint32_t t : members) {
+        for (int k = 0; k < 3; ++k)
+            ++edges[{ids[t][k], ids[t][(k + 1) % 3]}];
+    }
+    std::map<uint32_t, uint32_t> next;  // boundary vertex -> the next one
+    for (const auto& [edge, count] : edges) {
+        if (count != 1) return {};
+        if (edges.count({edge.second, edge.first}) != 0) continue;  // interior edge
+        if (!next.emplace(edge.first, edge.second).second) return {};  // not a simple loop
+    }
+    if (next.size() < 3) return {};
+    std::vector<uint32_t> loop{next.begin()->first};
+    while (loop.size() <= next.size()) {
+        const auto it = next.find(loop.back());
+        if (it == next.end()) return {};
+        if (it->second == loop.front()) break;
+        loop.push_back(it->second);
+    }
+    if (loop.size() != next.size()) return {};  // several loops (holes, pieces)
+    // Drop collinear corners, then require every remaining turn to be convex.
+    double scale = 0;
+    for (const uint32_t v : loop)
+        scale = std::max(scale, length(points[v] - points[loop.front()]));
+    std::vector<uint32_t> corners;
+    const std::size_t n = loop.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec3d& prev = points[loop[(i + n - 1) % n]];
+        const Vec3d& here = points[loop[i]];
+        const Vec3d& after = points[loop[(i + 1) % n]];
+        const double turn = dot(cross(here - prev, after - here), normal);
+        if (std::abs(turn) <= 1e-9 * scale * scale) continue;
+        if (turn < 0) return {};
+        corners.push_back(loop[i]);
+    }
+    if (corners.size() < 3) return {};
+    double fanArea = 0;
+    for (std::size_t i = 1; i + 1 < corners.size(); ++i)
+        fanArea += triangleArea(points[corners[0]], points[corners[i]], points[corners[i + 1]]);
+    if (std::abs(fanArea - groupArea) > 1e-6 * groupArea) return {};
+    return corners;
+}
+
+}  // namespace
+
+std::vector<LightTriangle> mergeEmitterFaces(const TriangleMesh& mesh,
+                                             std::span<const uint32_t> triangles,
+                                             std::span<const uint32_t> emissionClass) {
+    DAISY_CHECK(triangles.size() == emissionClass.size());
+    const std::size_t count = triangles.size();
+    // Weld corners by exact position, so unwelded copies of a vertex still connect.
+    std::map<std::array<double, 3>, uint32_t> vertexIds;
+    std::vector<Vec3d> points;
+    std::vector<std::array<uint32_t, 3>> ids(count);
+    std::vector<Vec3d> normals(count);
+    std::vector<double> areas(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            const Vec3d p = mesh.corner(triangles[i], k);
+            const auto [it, added] =
+                vertexIds.emplace(std::array{p.x, p.y, p.z}, uint32_t(points.size()));
+            if (added) points.push_back(p);
+            ids[i][std::size_t(k)] = it->second;
+        }
+        const Vec3d a = points[ids[i][0]], b = points[ids[i][1]], c = points[ids[i][2]];
+        const Vec3d area2 = areaVector2(a, b, c);
+        areas[i] = 0.5 * length(area2);
+        normals[i] = areas[i] > 0 ? area2 * (1.0 / length(area2)) : Vec3d{0, 0, 0};
+    }
+    // Join triangles across shared edges with the same emission and plane.
+    std::vector<uint32_t> parent(count);
+    std::iota(parent.begin(), parent.end(), 0u);
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> edgeOwner;  // undirected edge -> triangle
+    for (uint32_t i = 0; i < count; ++i) {
+        if (!(areas[i] > 0)) continue;
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t u = ids[i][std::size_t(k)], v = ids[i][std::size_t((k + 1) % 3)];
+            const auto [it, added] = edgeOwner.emplace(std::minmax(u, v), i);
+            if (added) continue;
+            const uint32_t j = it->second;
+            const double size = std::sqrt(std::max(areas[i], areas[j]));
+            const bool coplanar = dot(normals[i], normals[j]) >= 1 - 1e-6 &&
+                std::abs(dot(normals[i], points[ids[j][0]] - points[ids[i][0]])) <= 1e-6 * size;
+            if (coplanar && emissionClass[i] == emissionClass[j])
+                parent[root(parent, i)] = root(parent, j);
+        }
+    }
+    std::vector<std::vector<uint32_t>> groups;
+    std::vector<int> groupOf(count, -1);
+    for (uint32_t i = 0; i < count; ++i) {
+        const uint32_t r = root(parent, i);
+        if (groupOf[r] < 0) {
+            groupOf[r] = int(groups.size());
+            groups.emplace_back();
+        }
+        groups[std::size_t(groupOf[r])].push_back(i);
+    }
+    std::vector<LightTriangle> lights;
+    for (const std::vector<uint32_t>& members : groups) {
+        std::vector<uint32_t> loop;
+        if (members.size() >= 3) {
+            double area = 0;
+            for (const uint32_t t : members)
+                area += areas[t];
+            loop = convexBoundary(ids, points, members, normals[members.front()], area);
+        }
+        if (!loop.empty() && loop.size() - 2 < members.size()) {
+            for (std::size_t i = 1; i + 1 < loop.size(); ++i) {
+                lights.push_back({{points[loop[0]], points[loop[i]], points[loop[i + 1]]},
+                                  triangles[members.front()]});
+            }
+            continue;
+        }
+        for (const uint32_t t : members) {
+            lights.push_back(
+                {{points[ids[t][0]], points[ids[t][1]], points[ids[t][2]]}, triangles[t]});
+        }
+    }
+    return lights;
+}
+
+}  // namespace daisy
