@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 
+#include "backend/quiet_settings.h"
 #include "cuda/cuda_backend.h"
 #include "pipeline/backend_registry.h"
 #include "radiosity/matrix_compare.h"
@@ -51,14 +52,6 @@ TEST(CudaBackend, DeviceSelectorsThatMatchNothingAreErrors) {
     }
 }
 
-FormFactorSettings settingsFor(FormFactorMethod method, int rays) {
-    FormFactorSettings settings;
-    settings.method = method;
-    settings.raysPerPair = rays;
-    settings.progress = false;
-    return settings;
-}
-
 class CudaBackendTest : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -92,7 +85,7 @@ protected:
             for (int rays : {0, 16}) {
                 SCOPED_TRACE(std::string(what) + " " + formFactorMethodName(method) + " rays " +
                              std::to_string(rays));
-                const FormFactorSettings settings = settingsFor(method, rays);
+                const FormFactorSettings settings = test::quietSettings(method, rays);
                 const SparseMatrix gpu = build(*cuda_, mesh, settings);
                 const SparseMatrix cpu = build(*reference_, mesh, settings);
                 EXPECT_EQ(overTolerance(gpu, cpu), 0u);
@@ -119,7 +112,7 @@ TEST_F(CudaBackendTest, AgreesWithReferenceOnTheCornellBox) {
 
 TEST_F(CudaBackendTest, TinyLaunchesAndBatchesChangeNoBit) {
     const PatchMesh mesh = patchesOf(verify::halfOccludedSquares());
-    const FormFactorSettings settings = settingsFor(FormFactorMethod::Hybrid, 16);
+    const FormFactorSettings settings = test::quietSettings(FormFactorMethod::Hybrid, 16);
     const SparseMatrix whole = build(*cuda_, mesh, settings);
     for (const CudaBatchLimits limits :
          {CudaBatchLimits{1, 1}, CudaBatchLimits{3, 7}, CudaBatchLimits{65, 1000}}) {
@@ -133,7 +126,7 @@ TEST_F(CudaBackendTest, TinyLaunchesAndBatchesChangeNoBit) {
 
 TEST_F(CudaBackendTest, RefusesStochastic) {
     auto refused = cuda_->buildFormFactors(patchesOf(verify::unitCubeRoom(2)),
-                                           settingsFor(FormFactorMethod::Stochastic, 16));
+                                           test::quietSettings(FormFactorMethod::Stochastic, 16));
     ASSERT_FALSE(refused.ok());
     EXPECT_NE(refused.error().message.find("backend 'cuda' has no stochastic method"),
               std::string::npos);

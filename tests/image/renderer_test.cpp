@@ -6,20 +6,13 @@
 #include <vector>
 
 #include "image/camera.h"
+#include "image/origin_camera.h"
 #include "verify/scenes.h"
 
 namespace daisy {
 namespace {
 
-// A camera at the origin looking along -z, 60 degree vertical field of view.
-Camera originCamera() {
-    Camera camera;
-    camera.position = {0, 0, 0};
-    camera.forward = {0, 0, -1};
-    camera.up = {0, 1, 0};
-    camera.yFovRad = 1.0471975511965976;
-    return camera;
-}
+using test::originCamera;
 
 // The quad z = -1, |x|, |y| <= 4, facing the camera: it fills a 60 degree view.
 PatchMesh bigQuad() {

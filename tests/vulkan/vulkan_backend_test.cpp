@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "backend/quiet_settings.h"
 #include "pipeline/backend_registry.h"
 #include "radiosity/matrix_compare.h"
 #include "scene/load_scene.h"
@@ -68,14 +69,6 @@ uint64_t entriesOverTolerance(const SparseMatrix& a, const SparseMatrix& b, doub
     return c.overTolerance;
 }
 
-FormFactorSettings settingsFor(FormFactorMethod method, int rays) {
-    FormFactorSettings settings;
-    settings.method = method;
-    settings.raysPerPair = rays;
-    settings.progress = false;
-    return settings;
-}
-
 class VulkanBackendTest : public ::testing::Test {
 protected:
     void SetUp() override {
@@ -100,7 +93,7 @@ protected:
             for (int rays : {0, 16}) {
                 SCOPED_TRACE(std::string(what) + " " + formFactorMethodName(method) + " rays " +
                              std::to_string(rays));
-                const FormFactorSettings settings = settingsFor(method, rays);
+                const FormFactorSettings settings = test::quietSettings(method, rays);
                 const FormFactorResult gpu = build(*vulkan_, mesh, settings);
                 const FormFactorResult cpu = build(*reference_, mesh, settings);
                 EXPECT_EQ(entriesOverTolerance(gpu.matrix, cpu.matrix, 1e-4), 0u);
@@ -137,7 +130,7 @@ TEST_F(VulkanBackendTest, EverySpecialisedLevelAgreesWithReference) {
             for (int rays : {0, 4}) {
                 SCOPED_TRACE(std::string(formFactorMethodName(method)) +
                              " L = " + std::to_string(level) + " rays " + std::to_string(rays));
-                FormFactorSettings settings = settingsFor(method, rays);
+                FormFactorSettings settings = test::quietSettings(method, rays);
                 settings.quadratureLevel = level;
                 FormFactorResult gpu = build(*vulkan_, mesh, settings);
                 const FormFactorResult cpu = build(*reference_, mesh, settings);
@@ -176,7 +169,7 @@ TEST_F(VulkanBackendTest, MatchesHowellClosedForms) {
 // 4 KiB storage-buffer limit (512 pairs a batch) give the default run's matrix bit for bit.
 TEST_F(VulkanBackendTest, ChunkingDoesNotChangeTheResult) {
     const PatchMesh mesh = cornellBox();
-    const FormFactorSettings settings = settingsFor(FormFactorMethod::Hybrid, 16);
+    const FormFactorSettings settings = test::quietSettings(FormFactorMethod::Hybrid, 16);
     const FormFactorResult whole = build(*vulkan_, mesh, settings);
     for (const VulkanBackendLimits& limits :
          {VulkanBackendLimits{7, 3, 0}, VulkanBackendLimits{0, 0, 4096},
@@ -195,15 +188,15 @@ TEST_F(VulkanBackendTest, RefusesArraysOverTheStorageBufferLimit) {
     auto small = makeVulkanBackend(BackendOptions{}, VulkanBackendLimits{0, 0, 1024});
     ASSERT_TRUE(small.ok()) << small.error().message;
     auto result =
-        (*small)->buildFormFactors(cornellBox(), settingsFor(FormFactorMethod::Hybrid, 16));
+        (*small)->buildFormFactors(cornellBox(), test::quietSettings(FormFactorMethod::Hybrid, 16));
     ASSERT_FALSE(result.ok());
     EXPECT_NE(result.error().message.find("maxStorageBufferRange"), std::string::npos)
         << result.error().message;
 }
 
 TEST_F(VulkanBackendTest, RefusesStochastic) {
-    auto result =
-        vulkan_->buildFormFactors(cornellBox(), settingsFor(FormFactorMethod::Stochastic, 16));
+    auto result = vulkan_->buildFormFactors(cornellBox(),
+                                            test::quietSettings(FormFactorMethod::Stochastic, 16));
     ASSERT_FALSE(result.ok());
     EXPECT_NE(result.error().message.find("stochastic"), std::string::npos)
         << result.error().message;
