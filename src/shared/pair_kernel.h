@@ -15,16 +15,6 @@
 
 DAISY_SHARED_BEGIN
 
-// F_ij and F_ji of the pair (i, j) (patch indices, i < j as the driver passes them) with
-// geometry gi, gj: pairFactors(method, level, gi, gj) (formfactor.h; negative rounding clamped to
-// 0) times V_ij = pairVisibility of `rays` shadow segments seeded by pairSeed(i, j, seed)
-// (visibility.h; the cpu backend's segments). V = 1 when rays == 0; no rays are cast when the
-// unoccluded factor is 0 (facing-away pairs included). method is DAISY_METHOD_RIEMANN, _NUSSELT
-// or _HYBRID (stochastic has no pair kernel: 0). seed is the 32-bit seed; the segments' end
-// clearance is pairClearance(clearanceRelative, gi, gj) (visibility.h). fij * V is rounded once for
-// power-of-two rays, as the cpu driver's float(double(fij) * open / K). A backend may compute
-// the two factors apart (pairEntry with rays = 0 and pairEntryVisibility) and multiply them in
-// float: the same result.
 // V_ij of the pair (i, j) (patch indices, i < j as the driver passes them) with geometry gi, gj:
 // pairVisibility of `rays` (>= 1) shadow segments seeded by pairSeed(i, j, seed), end clearance
 // pairClearance(clearanceRelative, gi, gj) (visibility.h).
@@ -36,6 +26,16 @@ DAISY_HD float pairEntryVisibility(uint i, uint j, DAISY_IN(PatchGeometry) gi,
     return pairVisibility(pairSeed(i, j, seed), rays, gi, gj, clearance, nodes, triangles);
 }
 
+// F_ij and F_ji of the pair (i, j) (patch indices, i < j as the driver passes them) with
+// geometry gi, gj: pairFactors(method, level, gi, gj) (formfactor.h; negative rounding clamped to
+// 0) times V_ij = pairVisibility of `rays` shadow segments seeded by pairSeed(i, j, seed)
+// (visibility.h; the cpu backend's segments). V = 1 when rays == 0; no rays are cast when the
+// unoccluded factor is 0 (facing-away pairs included). method is DAISY_METHOD_RIEMANN, _NUSSELT
+// or _HYBRID (stochastic has no pair kernel: 0). seed is the 32-bit seed; the segments' end
+// clearance is pairClearance(clearanceRelative, gi, gj) (visibility.h). fij * V is rounded once for
+// power-of-two rays, as the cpu driver's float(double(fij) * open / K). A backend may compute
+// the two factors apart (pairEntry with rays = 0 and pairEntryVisibility) and multiply them in
+// float: the same result.
 DAISY_HD PairFactors pairEntry(uint i, uint j, DAISY_IN(PatchGeometry) gi,
                                DAISY_IN(PatchGeometry) gj, int method, int level, int rays,
                                uint seed, float clearanceRelative, BvhNodeBuffer nodes,
