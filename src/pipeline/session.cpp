@@ -1,6 +1,8 @@
 #include "pipeline/session.h"
 
 #include <algorithm>
+#include <future>
+#include <mutex>
 #include <new>
 #include <numbers>
 
@@ -40,6 +42,11 @@ struct Session::State {
     bool haveSolution = false;
     SolverResult solution;
 
+    // The store of a freshly built F into the disk cache, running off the critical path (it
+    // reads f, which stays unchanged until finishCacheWrite). Declared last so that it is
+    // destroyed (a std::async future's destructor waits) before f.
+    std::future<std::string> cacheWrite;
+
     std::string scenePath() const { return settings.scenePath; }
     void stageLine(const std::string& line) const {
         if (settings.logStages) logInfo(line);
@@ -50,6 +57,14 @@ struct Session::State {
 };
 
 namespace {
+
+// Held by a background cache store for its whole write, and by a cache lookup: a lookup in one
+// session waits for another session's store of (possibly) the same entry, and two stores in one
+// process never share the temporary file (core/atomic_file.h names it by the process id).
+std::mutex& cacheStoreMutex() {
+    static std::mutex mutex;
+    return mutex;
+}
 
 // The form-factor settings as the backends take them: the session's memory limit applies.
 FormFactorSettings formFactorSettingsOf(const SessionSettings& settings, const CancelToken* cancel,
@@ -154,7 +169,9 @@ Expected<void> prepare(Session::State& s) {
 Session::Session(std::unique_ptr<State> state) : state_(std::move(state)) {}
 Session::Session(Session&&) noexcept = default;
 Session& Session::operator=(Session&&) noexcept = default;
-Session::~Session() = default;
+Session::~Session() {
+    if (state_) finishCacheWrite();
+}
 
 Expected<Session> Session::open(SessionSettings settings,
                                 const std::function<Expected<void>(const Scene&)>& afterLoad) {
@@ -229,6 +246,7 @@ FormFactorKey Session::formFactorKey() const {
 }
 
 bool Session::formFactorsCached() const {
+    finishCacheWrite();
     const auto& dir = state_->settings.cacheDirectory;
     return dir && FormFactorCache(*dir).contains(formFactorKey());
 }
@@ -248,7 +266,10 @@ Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel,
         cache.emplace(*s.settings.cacheDirectory);
         key = formFactorKey();
         report.cachePath = cache->entryPath(key).string();
-        CacheLookup lookup = cache->load(key, s.settings.maxMemoryBytes);
+        CacheLookup lookup = [&] {
+            const std::lock_guard lock(cacheStoreMutex());
+            return cache->load(key, s.settings.maxMemoryBytes);
+        }();
         if (lookup.status == CacheLookup::Status::Hit) {
             setFormFactors(std::move(lookup.matrix));
             report.fromCache = true;
@@ -271,11 +292,12 @@ Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel,
     report.backendName = built->backendName;
     report.stats = built->stats;
     if (cache) {
-        const std::string warning = cache->store(key, s.f, report.stats);
-        if (!warning.empty()) {
-            logWarning(warning);
-            if (report.cacheWarning.empty()) report.cacheWarning = warning;
-        }
+        // The solve only reads F, so it need not wait for the ~330 MB write (issue 18).
+        s.cacheWrite = std::async(std::launch::async,
+                                  [cache = std::move(*cache), key, &f = s.f, stats = report.stats] {
+                                      const std::lock_guard lock(cacheStoreMutex());
+                                      return cache.store(key, f, stats);
+                                  });
     }
     report.seconds = timer.seconds();
     s.timings.viewFactorSeconds = report.seconds;
@@ -356,9 +378,18 @@ uint64_t Session::formFactorBuildCount() const {
     return state_->builds;
 }
 
+std::string Session::finishCacheWrite() const {
+    State& s = *state_;
+    if (!s.cacheWrite.valid()) return {};
+    std::string warning = s.cacheWrite.get();
+    if (!warning.empty()) logWarning(warning);
+    return warning;
+}
+
 void Session::setFormFactors(SparseMatrix matrix) {
     DAISY_CHECK_OP(matrix.size, ==, state_->patches.patchCount());
     State& s = *state_;
+    finishCacheWrite();  // the write reads the old F
     s.f = std::move(matrix);
     s.rowSums = rowSums(s.f);
     s.transposed.reset();

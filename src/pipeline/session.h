@@ -67,9 +67,10 @@ struct FormFactorReport {
                               // is not recorded: backendName is then "cache")
     bool fromCache = false;
     std::string cachePath;  // the entry read or written; empty without a cache
-    std::string cacheWarning;  // a rejected entry or a failed store, one line (already logged)
+    std::string cacheWarning;  // a rejected entry, one line (already logged); a failed store
+                               // is logged later (Session::finishCacheWrite)
     FormFactorStats stats;  // of the build (for a cached F: the stats stored with it)
-    double seconds = 0;  // wall time of this call: the cache read, or the build and store
+    double seconds = 0;  // wall time of this call: the cache read, or the build (not the store)
 };
 
 struct SolveRequest {
@@ -125,8 +126,9 @@ public:
     // True when the disk cache holds F for this key (a header check, no read).
     bool formFactorsCached() const;
     // Makes F available: from memory (no work), the disk cache, or the backend (then stored in
-    // the cache). Refuses a matrix over maxMemoryBytes before building. A cancelled build is an
-    // error saying so, and leaves no F.
+    // the cache by a background task, so the solve need not wait for the write: a failed store
+    // is logged as a warning by finishCacheWrite, not in the report). Refuses a matrix over
+    // maxMemoryBytes before building. A cancelled build is an error saying so, and leaves no F.
     // `onProgress`, when given, is told of the build's progress (core/progress.h).
     Expected<FormFactorReport> buildFormFactors(const CancelToken* cancel = nullptr,
                                                 const ProgressObserver& onProgress = {});
@@ -134,6 +136,10 @@ public:
     Expected<FormFactorReport> buildFormFactorsUncached(const std::string& backend,
                                                         const CancelToken* cancel = nullptr,
                                                         const ProgressObserver& onProgress = {});
+    // Waits for the background store of F started by buildFormFactors (no work when none is
+    // pending) and returns its warning ("F not cached: ..."), which it also logs; "" on success.
+    // Called by formFactorsCached, setFormFactors and the destructor.
+    std::string finishCacheWrite() const;
     bool hasFormFactors() const;
     const SparseMatrix& formFactors() const;  // precondition: hasFormFactors()
     std::span<const double> formFactorRowSums() const;  // precondition: hasFormFactors()

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <mutex>
@@ -219,6 +220,57 @@ TEST(Session, DiskCacheIsReusedAcrossMaterialAndWavelengthChanges) {
     moreRays.formFactors.raysPerPair = 8;
     Session third = openOk(moreRays);
     EXPECT_FALSE(third.formFactorsCached());
+}
+
+// The cache store runs in the background while the solve reads F (issue 18): once it has
+// finished, the entry on disk is F bit for bit, with the build's stats, and the solve that ran
+// alongside it matches one from a session without a cache.
+TEST(Session, BackgroundCacheStoreWritesTheMatrixSolvedWith) {
+    const auto cache = test::testTempDir() / "cache";
+    Session session = openOk(cornellSettings(cache));
+    auto built = session.buildFormFactors();
+    ASSERT_TRUE(built.ok());
+    ASSERT_FALSE(built->fromCache);
+    auto solved = session.solve();
+    ASSERT_TRUE(solved.ok());
+    EXPECT_EQ(session.finishCacheWrite(), "");
+    EXPECT_EQ(session.finishCacheWrite(), "");  // nothing pending any more
+    const CacheLookup lookup =
+        FormFactorCache(cache).load(session.formFactorKey(), /*maxMemoryBytes=*/0);
+    ASSERT_EQ(lookup.status, CacheLookup::Status::Hit) << lookup.message;
+    const SparseMatrix& f = session.formFactors();
+    EXPECT_EQ(lookup.matrix.rowOffsets, f.rowOffsets);
+    EXPECT_EQ(lookup.matrix.columns, f.columns);
+    ASSERT_EQ(lookup.matrix.values.size(), f.values.size());
+    EXPECT_EQ(
+        std::memcmp(lookup.matrix.values.data(), f.values.data(), f.values.size() * sizeof(float)),
+        0);
+    EXPECT_EQ(lookup.stats.raysCast, built->stats.raysCast);
+
+    Session uncached = openOk(cornellSettings());
+    auto reference = uncached.solve();
+    ASSERT_TRUE(reference.ok());
+    ASSERT_EQ(solved->radiosity.size(), reference->radiosity.size());
+    for (std::size_t i = 0; i < solved->radiosity.size(); ++i)
+        ASSERT_NEAR(solved->radiosity[i], reference->radiosity[i],
+                    1e-12 * (1 + std::abs(reference->radiosity[i])))
+            << "entry " << i;
+}
+
+// A store that fails in the background (the cache folder's parent is a file) is a warning that
+// finishCacheWrite returns, not an error; F and the solve are unaffected.
+TEST(Session, FailedBackgroundCacheStoreIsAWarning) {
+    const auto dir = test::testTempDir();
+    const std::string file = test::writeFile(dir, "file", "not a folder");
+    Session session = openOk(cornellSettings(std::filesystem::path(file) / "cache"));
+    auto built = session.buildFormFactors();
+    ASSERT_TRUE(built.ok());
+    EXPECT_TRUE(built->cacheWarning.empty()) << built->cacheWarning;
+    ASSERT_TRUE(session.solve().ok());
+    const std::string warning = session.finishCacheWrite();
+    EXPECT_NE(warning.find("F not cached: cannot create the cache folder"), std::string::npos)
+        << warning;
+    EXPECT_FALSE(session.formFactorsCached());
 }
 
 // A wavelength edit keeps F and drops the solution (its size changes).
