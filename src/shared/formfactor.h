@@ -447,17 +447,24 @@ DAISY_HD float pairFactorUnoccluded(int method, int level, DAISY_IN(PatchGeometr
 // Both unoccluded factors of the unordered pair {i, j}: computed once in the accurate direction
 // (quadrature on the patchPrecedes-first patch, the smaller one) and the other entry from
 // reciprocity A_i F_ij = A_j F_ji (DESIGN.md section 3). Swapping i and j swaps the results.
+// The kernel has one call site: a compiler would otherwise inline the hybrid rule twice, with a
+// refinement list each (twice the per-thread stack under nvcc), and a SIMD device that runs
+// both sides of a branch (lavapipe) would evaluate it twice per pair.
 DAISY_HD PairFactors pairFactors(int method, int level, DAISY_IN(PatchGeometry) i,
                                  DAISY_IN(PatchGeometry) j) {
-    PairFactors f;
-    if (patchPrecedes(j, i)) {
-        f.fji = pairFactorUnoccluded(method, level, j, i);
-        f.fij = f.fji * (j.area / i.area);
+    bool swapped = patchPrecedes(j, i);
+    PatchGeometry first = swapped ? j : i;
+    PatchGeometry second = swapped ? i : j;
+    float f = pairFactorUnoccluded(method, level, first, second);
+    PairFactors factors;
+    if (swapped) {
+        factors.fji = f;
+        factors.fij = f * (j.area / i.area);
     } else {
-        f.fij = pairFactorUnoccluded(method, level, i, j);
-        f.fji = f.fij * (i.area / j.area);
+        factors.fij = f;
+        factors.fji = f * (i.area / j.area);
     }
-    return f;
+    return factors;
 }
 
 DAISY_SHARED_END
