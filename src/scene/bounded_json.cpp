@@ -53,6 +53,12 @@ Expected<nlohmann::json> parseBoundedJson(std::string_view text, int maxDepth) {
     }
 }
 
+const nlohmann::json* jsonMember(const nlohmann::json& object, const char* key) {
+    if (!object.is_object()) return nullptr;
+    const auto it = object.find(key);
+    return it == object.end() ? nullptr : &*it;
+}
+
 std::string describeJson(const nlohmann::json& value) {
     if (value.is_null()) return "null";
     std::string text;

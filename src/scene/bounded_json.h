@@ -24,6 +24,9 @@ inline constexpr std::size_t kMaxJsonBytes = std::size_t(512) << 20;
 // 600 MiB, over the 512 MiB limit".
 Expected<nlohmann::json> parseBoundedJson(std::string_view text, int maxDepth = kMaxJsonDepth);
 
+// object[key] when `object` is an object holding `key`, else null.
+const nlohmann::json* jsonMember(const nlohmann::json& object, const char* key);
+
 // "string \"abc\"", "null", "object {...}": a value's type and a short excerpt, for messages.
 std::string describeJson(const nlohmann::json& value);
 

@@ -260,25 +260,9 @@ Expected<void> decodeDracoPrimitives(nlohmann::json& root, const std::string& fo
             }
         }
     }
-    // Buffers with no data of their own (the GLB chunk) become data: uris.
-    for (std::size_t b = 0; b < buffers.size(); ++b) {
-        nlohmann::json& buffer = buffers[b];
-        if (buffer.contains("uri")) continue;
-        const std::string bytes =
-            b == 0 && !glbBin.empty() ? std::string(glbBin) : std::string(4, '\0');
-        buffer["uri"] = gltfDataUri(bytes);
-        buffer["byteLength"] = bytes.size();
-    }
     if (decoded.empty()) decoded.assign(4, '\0');  // tinygltf refuses an empty data: uri
     buffers.push_back({{"byteLength", decoded.size()}, {"uri", gltfDataUri(decoded)}});
-    for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
-        if (!root.contains(list) || !root[list].is_array()) continue;
-        nlohmann::json kept = nlohmann::json::array();
-        for (const nlohmann::json& entry : root[list]) {
-            if (entry != kName) kept.push_back(entry);
-        }
-        root[list] = std::move(kept);
-    }
+    inlineBuffersAndDropExtensions(root, glbBin, {kName});
     return {};
 }
 

@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "core/strings.h"
+#include "scene/bounded_json.h"
 #include "scene/material_extension.h"
 
 namespace daisy {
@@ -30,14 +31,8 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 10> kMateria
     {"KHR_materials_pbrSpecularGlossiness", "specular-glossiness"},
 }};
 
-const nlohmann::json* member(const nlohmann::json& object, const char* key) {
-    if (!object.is_object()) return nullptr;
-    const auto it = object.find(key);
-    return it == object.end() ? nullptr : &*it;
-}
-
 std::string materialName(const nlohmann::json& material, std::size_t index) {
-    const nlohmann::json* name = member(material, "name");
+    const nlohmann::json* name = jsonMember(material, "name");
     if (name != nullptr && name->is_string() && !name->get<std::string>().empty())
         return concat("'", name->get<std::string>(), "'");
     return concat("materials[", index, "]");
@@ -57,7 +52,7 @@ std::string nameList(const std::vector<std::string>& names) {
 
 std::vector<std::string> stringArray(const nlohmann::json& root, const char* key) {
     std::vector<std::string> out;
-    const nlohmann::json* array = member(root, key);
+    const nlohmann::json* array = jsonMember(root, key);
     if (array == nullptr || !array->is_array()) return out;
     for (const nlohmann::json& value : *array) {
         if (value.is_string()) out.push_back(value.get<std::string>());
@@ -71,9 +66,9 @@ std::vector<std::string> stringArray(const nlohmann::json& root, const char* key
 bool hasNoEffectOnDiffuse(const std::string& name, const nlohmann::json& value) {
     if (name == "KHR_materials_ior") return true;
     if (name != "KHR_materials_specular") return false;
-    const nlohmann::json* factor = member(value, "specularFactor");
+    const nlohmann::json* factor = jsonMember(value, "specularFactor");
     if (factor != nullptr && factor->is_number() && factor->get<double>() == 0) return true;
-    const nlohmann::json* colour = member(value, "specularColorFactor");
+    const nlohmann::json* colour = jsonMember(value, "specularColorFactor");
     if (colour == nullptr || !colour->is_array()) return false;
     return std::all_of(colour->begin(), colour->end(), [](const nlohmann::json& c) {
         return c.is_number() && c.get<double>() == 0;
@@ -109,25 +104,25 @@ void warnDroppedGltfFeatures(const nlohmann::json& root, const std::string& path
         it->second.push_back(name);
     };
     std::vector<std::string> materialExtensions;
-    if (const nlohmann::json* materials = member(root, "materials");
+    if (const nlohmann::json* materials = jsonMember(root, "materials");
         materials != nullptr && materials->is_array()) {
         for (std::size_t i = 0; i < materials->size(); ++i) {
             const nlohmann::json& material = (*materials)[i];
             const std::string name = materialName(material, i);
             double metallic = 1;  // glTF's default
-            if (const nlohmann::json* pbr = member(material, "pbrMetallicRoughness")) {
-                if (const nlohmann::json* factor = member(*pbr, "metallicFactor");
+            if (const nlohmann::json* pbr = jsonMember(material, "pbrMetallicRoughness")) {
+                if (const nlohmann::json* factor = jsonMember(*pbr, "metallicFactor");
                     factor != nullptr && factor->is_number()) {
                     metallic = factor->get<double>();
                 }
             }
             if (metallic > 0) note("metallic", name);
-            if (const nlohmann::json* mode = member(material, "alphaMode");
+            if (const nlohmann::json* mode = jsonMember(material, "alphaMode");
                 mode != nullptr && mode->is_string()) {
                 if (*mode == "BLEND") note("alpha blending", name);
                 if (*mode == "MASK") note("alpha masking", name);
             }
-            const nlohmann::json* extensions = member(material, "extensions");
+            const nlohmann::json* extensions = jsonMember(material, "extensions");
             if (extensions == nullptr || !extensions->is_object()) continue;
             for (const auto& [key, value] : extensions->items()) {
                 if (isSupportedGltfExtension(key)) continue;

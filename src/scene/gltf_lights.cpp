@@ -5,20 +5,15 @@
 #include <string>
 
 #include "core/strings.h"
+#include "scene/bounded_json.h"
 #include "scene/material_extension.h"
 
 namespace daisy {
 namespace {
 
-const nlohmann::json* member(const nlohmann::json& object, const char* key) {
-    if (!object.is_object()) return nullptr;
-    const auto it = object.find(key);
-    return it == object.end() ? nullptr : &*it;
-}
-
 Expected<double> number(const nlohmann::json& object, const char* key, double fallback, double low,
                         double high, const std::string& where) {
-    const nlohmann::json* value = member(object, key);
+    const nlohmann::json* value = jsonMember(object, key);
     if (value == nullptr) return fallback;
     if (!value->is_number()) return Error{concat(where, ".", key, ": expected a number")};
     const double x = value->get<double>();
@@ -33,12 +28,12 @@ Expected<double> number(const nlohmann::json& object, const char* key, double fa
 
 Expected<std::vector<PunctualLight>> readGltfLights(const nlohmann::json& root) {
     std::vector<PunctualLight> lights;
-    const nlohmann::json* extensions = member(root, "extensions");
+    const nlohmann::json* extensions = jsonMember(root, "extensions");
     const nlohmann::json* extension =
-        extensions != nullptr ? member(*extensions, kLightsExtensionName) : nullptr;
+        extensions != nullptr ? jsonMember(*extensions, kLightsExtensionName) : nullptr;
     if (extension == nullptr) return lights;
     const std::string base = concat("extensions.", kLightsExtensionName, ".lights");
-    const nlohmann::json* list = member(*extension, "lights");
+    const nlohmann::json* list = jsonMember(*extension, "lights");
     if (list == nullptr || !list->is_array()) return Error{base + ": expected an array"};
     constexpr double kMaxIntensity = 1e30;  // validate_scene's emission bound
     for (std::size_t k = 0; k < list->size(); ++k) {
@@ -46,10 +41,10 @@ Expected<std::vector<PunctualLight>> readGltfLights(const nlohmann::json& root) 
         const std::string where = concat(base, "[", k, "]");
         if (!object.is_object()) return Error{where + ": expected an object"};
         PunctualLight light;
-        const nlohmann::json* name = member(object, "name");
+        const nlohmann::json* name = jsonMember(object, "name");
         light.name =
             name != nullptr && name->is_string() ? name->get<std::string>() : concat("light", k);
-        const nlohmann::json* type = member(object, "type");
+        const nlohmann::json* type = jsonMember(object, "type");
         if (type == nullptr || !type->is_string()) return Error{where + ".type: expected a string"};
         if (*type == "point") {
             light.type = PunctualLight::Type::Point;
@@ -61,7 +56,7 @@ Expected<std::vector<PunctualLight>> readGltfLights(const nlohmann::json& root) 
             return Error{concat(where, ".type: \"", type->get<std::string>(),
                                 "\" is not point, spot or directional")};
         }
-        if (const nlohmann::json* color = member(object, "color")) {
+        if (const nlohmann::json* color = jsonMember(object, "color")) {
             if (!color->is_array() || color->size() != 3) {
                 return Error{where + ".color: expected 3 numbers"};
             }
@@ -80,7 +75,7 @@ Expected<std::vector<PunctualLight>> readGltfLights(const nlohmann::json& root) 
         if (!range) return range.error();
         light.range = *range;
         if (light.type == PunctualLight::Type::Spot) {
-            const nlohmann::json* spot = member(object, "spot");
+            const nlohmann::json* spot = jsonMember(object, "spot");
             const nlohmann::json empty = nlohmann::json::object();
             const std::string spotWhere = where + ".spot";
             auto outer = number(spot != nullptr ? *spot : empty, "outerConeAngle",
@@ -92,8 +87,8 @@ Expected<std::vector<PunctualLight>> readGltfLights(const nlohmann::json& root) 
             light.innerConeRad = *inner;
             light.outerConeRad = *outer;
         }
-        if (const nlohmann::json* spectral = member(object, "extensions") != nullptr
-                ? member(*member(object, "extensions"), kSpectralExtensionName)
+        if (const nlohmann::json* spectral = jsonMember(object, "extensions") != nullptr
+                ? jsonMember(*jsonMember(object, "extensions"), kSpectralExtensionName)
                 : nullptr) {
             auto parsed = parseMaterialExtension(
                 *spectral, concat(where, ".extensions.", kSpectralExtensionName));
@@ -108,12 +103,12 @@ Expected<std::vector<PunctualLight>> readGltfLights(const nlohmann::json& root) 
 Expected<std::optional<PunctualLight>> placeGltfLight(const nlohmann::json& node,
                                                       const std::vector<PunctualLight>& lights,
                                                       const GltfMatrix& world) {
-    const nlohmann::json* extensions = member(node, "extensions");
+    const nlohmann::json* extensions = jsonMember(node, "extensions");
     const nlohmann::json* extension =
-        extensions != nullptr ? member(*extensions, kLightsExtensionName) : nullptr;
+        extensions != nullptr ? jsonMember(*extensions, kLightsExtensionName) : nullptr;
     if (extension == nullptr) return std::optional<PunctualLight>{};
     const std::string where = concat("extensions.", kLightsExtensionName, ".light");
-    const nlohmann::json* index = member(*extension, "light");
+    const nlohmann::json* index = jsonMember(*extension, "light");
     if (index == nullptr || !index->is_number_integer()) {
         return Error{where + ": expected an integer"};
     }

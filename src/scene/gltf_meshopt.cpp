@@ -74,6 +74,29 @@ std::string gltfDataUri(std::string_view bytes) {
     return "data:application/octet-stream;base64," + base64Encode(bytes);
 }
 
+void inlineBuffersAndDropExtensions(nlohmann::json& root, std::string_view glbBin,
+                                    std::initializer_list<const char*> names) {
+    nlohmann::json& buffers = root["buffers"];
+    for (std::size_t b = 0; b < buffers.size(); ++b) {
+        nlohmann::json& buffer = buffers[b];
+        if (buffer.contains("uri")) continue;
+        const std::string bytes =
+            b == 0 && !glbBin.empty() ? std::string(glbBin) : std::string(4, '\0');
+        buffer["uri"] = gltfDataUri(bytes);
+        buffer["byteLength"] = bytes.size();
+    }
+    for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
+        if (!root.contains(list) || !root[list].is_array()) continue;
+        nlohmann::json kept = nlohmann::json::array();
+        for (const nlohmann::json& entry : root[list]) {
+            if (std::none_of(names.begin(), names.end(),
+                             [&](const char* name) { return entry == name; }))
+                kept.push_back(entry);
+        }
+        root[list] = std::move(kept);
+    }
+}
+
 Expected<std::string> gltfBufferBytes(const nlohmann::json& buffer, std::size_t index,
                                       const std::string& folder, std::string_view glbBin) {
     const auto uri = buffer.find("uri");
@@ -188,26 +211,12 @@ Expected<void> decodeMeshoptViews(nlohmann::json& root, const std::string& folde
         view["extensions"].erase("KHR_meshopt_compression");
         if (view["extensions"].empty()) view.erase("extensions");
     }
-    // Buffers with no data of their own (fallbacks, the GLB chunk) become data: uris.
-    for (std::size_t b = 0; b < buffers.size(); ++b) {
-        nlohmann::json& buffer = buffers[b];
-        if (buffer.contains("uri")) continue;
-        // tinygltf refuses an empty data: uri; a fallback keeps 4 zero bytes no view reads.
-        const std::string bytes =
-            b == 0 && !glbBin.empty() ? std::string(glbBin) : std::string(4, '\0');
-        buffer["uri"] = gltfDataUri(bytes);
-        buffer["byteLength"] = bytes.size();
-        if (buffer.contains("extensions")) buffer.erase("extensions");
+    // Fallback buffers carry the extension too; they become data: uris below.
+    for (nlohmann::json& buffer : buffers) {
+        if (!buffer.contains("uri") && buffer.contains("extensions")) buffer.erase("extensions");
     }
     buffers.push_back({{"byteLength", decoded.size()}, {"uri", gltfDataUri(decoded)}});
-    for (const char* list : {"extensionsUsed", "extensionsRequired"}) {
-        if (!root.contains(list) || !root[list].is_array()) continue;
-        nlohmann::json kept = nlohmann::json::array();
-        for (const nlohmann::json& name : root[list]) {
-            if (name != kNames[0] && name != kNames[1]) kept.push_back(name);
-        }
-        root[list] = std::move(kept);
-    }
+    inlineBuffersAndDropExtensions(root, glbBin, {kNames[0], kNames[1]});
     return {};
 }
 

@@ -4,6 +4,7 @@
 // then the octahedral, quaternion or exponential filter) into one new buffer, the views are
 // pointed at it and the extension removed, so tinygltf and the accessor readers see plain glTF.
 // Internal to scene/ (gltf_loader.cpp). Messages name the bufferView without the file.
+#include <initializer_list>
 #include <string>
 #include <string_view>
 
@@ -16,6 +17,13 @@ namespace daisy {
 
 // A data: uri (base64) holding `bytes`.
 std::string gltfDataUri(std::string_view bytes);
+
+// What the decoders (this one and gltf_draco.cpp) do last, so that the result parses as a
+// .gltf: every buffer without a uri gets a data: uri, buffer 0 the GLB BIN chunk `glbBin` when
+// there is one and any other 4 zero bytes no view reads (tinygltf refuses an empty data: uri);
+// then the extension `names` leave extensionsUsed and extensionsRequired.
+void inlineBuffersAndDropExtensions(nlohmann::json& root, std::string_view glbBin,
+                                    std::initializer_list<const char*> names);
 
 // The bytes of buffers[index]: the GLB BIN chunk (`glbBin`, buffer 0 without a uri), a data:
 // uri, or a file beside the scene in `folder`. Shared with gltf_draco.cpp.

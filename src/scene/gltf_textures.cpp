@@ -6,22 +6,17 @@
 #include <string_view>
 
 #include "core/strings.h"
+#include "scene/bounded_json.h"
 
 namespace daisy {
 namespace {
-
-const nlohmann::json* member(const nlohmann::json& object, const char* key) {
-    if (!object.is_object()) return nullptr;
-    const auto it = object.find(key);
-    return it == object.end() ? nullptr : &*it;
-}
 
 // Numbers array member `key` of `object` of length `size`, or `fallback` when absent.
 template <std::size_t N>
 Expected<std::array<double, N>> readArray(const nlohmann::json& object, const char* key,
                                           std::array<double, N> fallback,
                                           const std::string& where) {
-    const nlohmann::json* value = member(object, key);
+    const nlohmann::json* value = jsonMember(object, key);
     if (value == nullptr) return fallback;
     if (!value->is_array() || value->size() != N) {
         return Error{concat(where, ".", key, ": expected an array of ", N, " numbers")};
@@ -37,7 +32,7 @@ Expected<std::array<double, N>> readArray(const nlohmann::json& object, const ch
 }
 
 Expected<int> readTexCoord(const nlohmann::json& object, int fallback, const std::string& where) {
-    const nlohmann::json* value = member(object, "texCoord");
+    const nlohmann::json* value = jsonMember(object, "texCoord");
     if (value == nullptr) return fallback;
     if (!value->is_number_integer() || value->get<long long>() < 0) {
         return Error{concat(where, ".texCoord: expected an integer >= 0")};
@@ -95,7 +90,7 @@ Expected<int> GltfTextures::imageTexture(int image) {
 
 Expected<GltfTextureRead> GltfTextures::read(const nlohmann::json& info, const std::string& where) {
     if (!info.is_object()) return Error{where + ": expected an object"};
-    const nlohmann::json* indexValue = member(info, "index");
+    const nlohmann::json* indexValue = jsonMember(info, "index");
     if (indexValue == nullptr || !indexValue->is_number_integer()) {
         return Error{where + ".index: expected an integer"};
     }
@@ -129,16 +124,16 @@ Expected<GltfTextureRead> GltfTextures::read(const nlohmann::json& info, const s
     auto texCoord = readTexCoord(info, 0, where);
     if (!texCoord) return texCoord.error();
     ref.texCoord = *texCoord;
-    const nlohmann::json* extensions = member(info, "extensions");
+    const nlohmann::json* extensions = jsonMember(info, "extensions");
     if (const nlohmann::json* transform =
-            extensions != nullptr ? member(*extensions, "KHR_texture_transform") : nullptr) {
+            extensions != nullptr ? jsonMember(*extensions, "KHR_texture_transform") : nullptr) {
         const std::string transformWhere = where + ".extensions.KHR_texture_transform";
         auto offset = readArray<2>(*transform, "offset", {0, 0}, transformWhere);
         if (!offset) return offset.error();
         auto scale = readArray<2>(*transform, "scale", {1, 1}, transformWhere);
         if (!scale) return scale.error();
         double rotation = 0;
-        if (const nlohmann::json* value = member(*transform, "rotation")) {
+        if (const nlohmann::json* value = jsonMember(*transform, "rotation")) {
             if (!value->is_number() || !std::isfinite(value->get<double>())) {
                 return Error{transformWhere + ".rotation: expected a finite number"};
             }
