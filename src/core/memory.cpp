@@ -3,6 +3,11 @@
 #include <cstdio>
 #include <cstring>
 
+#if defined(__linux__)
+#include <sys/mman.h>
+#include <unistd.h>
+#endif
+
 namespace daisy {
 
 uint64_t peakResidentBytes() {
@@ -26,6 +31,19 @@ bool resetPeakResidentBytes() {
     if (!file) return false;
     const bool written = std::fputs("5", file) >= 0;
     return std::fclose(file) == 0 && written;
+}
+
+void adviseHugePages(void* data, std::size_t bytes) {
+#if defined(__linux__)
+    const auto page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
+    const auto begin = reinterpret_cast<uintptr_t>(data);
+    const uintptr_t first = (begin + page - 1) / page * page;
+    const uintptr_t last = (begin + bytes) / page * page;
+    if (last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_HUGEPAGE);
+#else
+    (void)data;
+    (void)bytes;
+#endif
 }
 
 }  // namespace daisy

@@ -16,6 +16,7 @@
 #include <mutex>
 #include <vector>
 
+#include "core/memory.h"
 #include "core/progress.h"
 #include "core/strings.h"
 #include "core/timer.h"
@@ -738,8 +739,8 @@ Expected<FormFactorResult> PairLoop::run() {
     matrix_.rowOffsets.assign(std::size_t(n_) + 1, 0);
     for (uint32_t i = 0; i < n_; ++i)
         matrix_.rowOffsets[i + 1] = matrix_.rowOffsets[i] + lowerCount_[i] + upperCount_[i];
-    matrix_.columns.resize(stats_.slots);
-    matrix_.values.resize(stats_.slots);
+    resizeOnHugePages(matrix_.columns, stats_.slots);
+    resizeOnHugePages(matrix_.values, stats_.slots);
 
     const auto pairStart = Clock::now();
     const auto calibrateStart = Clock::now();

@@ -1,21 +1,44 @@
 #pragma once
 // The cpu backend's unoccluded pair factors (issue 18): shared::pairFactors (shared/formfactor.h)
-// with the hybrid method's commonest cases done four points at a time. When no quadrature cell
-// of i's clipped piece is near j (each is far, ratio >= DAISY_FF_FAR_RATIO: its centroid, or in
-// the middle band from DAISY_FF_MID_RATIO: the three-point rule; at the default L = 1 most pairs
-// of a room), the point-to-triangle factors are evaluated in SSE lanes by the same operations
-// in the same order as the shared kernel, so the result is bit-identical to it (checked by
-// tests/radiosity/hybrid_far_field_test.cpp). Points whose view of j must be clipped, pairs
-// with a near cell, levels above 2 and the other methods are the shared kernel itself.
+// with the hybrid method's commonest cases evaluated four points at a time across pairs. When no
+// quadrature cell of i's clipped piece is near j (each is far, ratio >= DAISY_FF_FAR_RATIO: its
+// centroid, or in the middle band from DAISY_FF_MID_RATIO: the three-point rule; a root that far
+// is one cell; at the default L = 1 most pairs of a room), the pair's points join a batch whose
+// point-to-triangle factors are evaluated in SSE lanes, each lane with its own pair, by the same
+// operations in the same order as the shared kernel, so every result is bit-identical to it
+// (checked by tests/radiosity/hybrid_far_field_test.cpp). Points whose view of j must be clipped,
+// pairs with a near cell, levels above 2 and the other methods are the shared kernel itself.
+#include <cstdint>
+#include <span>
+#include <vector>
+
 #include "shared/gpu_types.h"
 
 namespace daisy {
 
-// shared::hybridPairFactor(level, i, j), with its far and middle cells vectorised.
-float hybridPairFactorCpu(int level, const shared::PatchGeometry& i,
-                          const shared::PatchGeometry& j);
+// Working memory of candidateFactorsCpu, reused between calls (one per thread).
+struct FarFieldScratch {
+    struct Point {
+        shared::vec3 position;  // scene units
+        const shared::PatchGeometry* receiver;  // i: the point's patch (its normal)
+        const shared::PatchGeometry* target;  // j: the triangle the factor is to
+    };
+    struct Cell {
+        float share;  // the cell's area over A_i
+        uint32_t points;  // 1 (far: the centroid) or 3 (middle: threePointRule)
+    };
+    struct Pair {
+        uint32_t cellEnd;  // one past the pair's last cell, or ~0 when not planned
+        float direct;  // the shared kernel's factor, when not planned
+    };
+    std::vector<Point> points;
+    std::vector<float> values;  // per point: the point-to-triangle factor
+    std::vector<Cell> cells;
+    std::vector<Pair> pairs;
+    std::vector<shared::PairFactors> factors;
+};
 
-// shared::pairFactors(method, level, i, j), with hybridPairFactorCpu for the hybrid method.
+// shared::pairFactors(method, level, i, j), with the hybrid method's far cells vectorised.
 shared::PairFactors pairFactorsCpu(int method, int level, const shared::PatchGeometry& i,
                                    const shared::PatchGeometry& j);
 
@@ -23,5 +46,12 @@ shared::PairFactors pairFactorsCpu(int method, int level, const shared::PatchGeo
 // the same values without testing shared::facingAway again.
 shared::PairFactors candidatePairFactorsCpu(int method, int level, const shared::PatchGeometry& i,
                                             const shared::PatchGeometry& j);
+
+// fij[k] = max(0, candidatePairFactorsCpu(method, level, geometry[pairs[k].i],
+// geometry[pairs[k].j]).fij) for every k, the far cells of all the pairs evaluated together.
+// fij.size() >= pairs.size().
+void candidateFactorsCpu(int method, int level, std::span<const shared::PatchGeometry> geometry,
+                         std::span<const shared::PairIndex> pairs, std::span<float> fij,
+                         FarFieldScratch& scratch);
 
 }  // namespace daisy

@@ -28,6 +28,9 @@ constexpr std::size_t kTaskSegments = std::size_t(1) << 16;
 struct Scratch {
     SegmentArrays segments;
     std::vector<uint8_t> blocked;
+    std::vector<PairIndex> openPairs;  // traced pairs some segment reaches
+    std::vector<float> openFactors;  // their unoccluded factors
+    FarFieldScratch farField;
 };
 
 class RayPairEvaluator final : public PairEvaluator {
@@ -52,8 +55,9 @@ public:
                               for (std::size_t k = range.begin(); k < range.end(); k += grain) {
                                   const std::size_t end = std::min(range.end(), k + grain);
                                   if (rays == 0) {
-                                      for (std::size_t p = k; p < end; ++p)
-                                          fij[p] = factor(pairs[p].i, pairs[p].j);
+                                      candidateFactorsCpu(method_, level_, geometry_,
+                                                          pairs.subspan(k, end - k), fij.subspan(k),
+                                                          scratch_.local().farField);
                                   } else {
                                       trace(pairs.subspan(k, end - k), rays, fij.subspan(k));
                                   }
@@ -63,13 +67,6 @@ public:
     }
 
 private:
-    // Unoccluded F_ij (>= 0) of a candidate pair, the shared kernel's in the accurate direction
-    // (its far-field cells vectorised: radiosity/hybrid_far_field.h).
-    float factor(uint32_t i, uint32_t j) const {
-        const float f = candidatePairFactorsCpu(method_, level_, geometry_[i], geometry_[j]).fij;
-        return f > 0.0f ? f : 0.0f;
-    }
-
     void trace(std::span<const PairIndex> pairs, int k, std::span<float> fij) const {
         Scratch& scratch = scratch_.local();
         scratch.segments.resize(pairs.size() * std::size_t(k));
@@ -82,12 +79,24 @@ private:
                            p * std::size_t(k));
         }
         rays_.occluded(scratch.segments, scratch.blocked);
+        // The unoccluded factors of the pairs some segment reaches, in one batch (the far field
+        // of many pairs fills the SIMD lanes: radiosity/hybrid_far_field.h).
+        scratch.openPairs.clear();
+        for (std::size_t p = 0, s = 0; p < pairs.size(); ++p, s += std::size_t(k)) {
+            if (std::find(&scratch.blocked[s], &scratch.blocked[s] + k, 0) !=
+                &scratch.blocked[s] + k)
+                scratch.openPairs.push_back(pairs[p]);
+        }
+        scratch.openFactors.resize(scratch.openPairs.size());
+        candidateFactorsCpu(method_, level_, geometry_, scratch.openPairs, scratch.openFactors,
+                            scratch.farField);
         std::size_t s = 0;
+        std::size_t next = 0;
         for (std::size_t p = 0; p < pairs.size(); ++p) {
             int open = 0;
             for (int r = 0; r < k; ++r, ++s)
                 open += scratch.blocked[s] == 0 ? 1 : 0;
-            const float f = open > 0 ? factor(pairs[p].i, pairs[p].j) : 0.0f;
+            const float f = open > 0 ? scratch.openFactors[next++] : 0.0f;
             fij[p] = static_cast<float>(double(f) * double(open) / double(k));
         }
     }

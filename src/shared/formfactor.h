@@ -270,7 +270,9 @@ DAISY_HD float cellError(DAISY_IN(QuadratureCell) cell, float share, uint shared
 
 // hybrid (Baum, Rushmeier & Winget 1989): F_ij = (1/A_i) integral over i of f(x), the
 // exact pointToTriangleFactor from x on i to j. i is first clipped to j's front half-space (the
-// rest sees j's back: f = 0), and each clipped piece split into 4^L cells. By a cell's distance
+// rest sees j's back: f = 0), and each clipped piece (root) split into 4^L cells, unless the
+// root is already DAISY_FF_MID_RATIO of its own diameter from j: then it is one cell (the rules
+// below are as accurate on it as on its children, at a quarter of the points). By a cell's distance
 // to j in cell diameters (distanceLowerBound): from DAISY_FF_FAR_RATIO on, its centroid value;
 // from DAISY_FF_MID_RATIO on, threePointRule; nearer, the cell joins a globally adaptive scheme
 // (as in QUADPACK's qag, Piessens et al. 1983): each listed cell carries the mean of its children's
@@ -306,14 +308,22 @@ DAISY_HD float hybridPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(P
         rootArea[r] = 0.5f * length(cross(rb - ra, rc - ra));
         float rootDiameter = max(max(length(rb - ra), length(rc - rb)), length(ra - rc));
         rootShared[r] = sharedCornerMask(ra, rb, rc, j, rootDiameter);
-        float share = rootArea[r] * levelScale * levelScale / i.area;
-        for (int t = 0; t < cells; ++t) {
+        // A root at least DAISY_FF_MID_RATIO of its own diameter from j is one cell: the far or
+        // middle rule on the whole root is within the error bands the cells would have.
+        vec3 rootCentre = (ra + rb + rc) * (1.0f / 3.0f);
+        bool coarse = distanceLowerBound(rootCentre, j, jCentre, jRadius) / rootDiameter >=
+            DAISY_FF_MID_RATIO;
+        int rootLevel = coarse ? 0 : level;
+        int rootCells = coarse ? 1 : cells;
+        float cellScale = coarse ? 1.0f : levelScale;
+        float share = rootArea[r] * cellScale * cellScale / i.area;
+        for (int t = 0; t < rootCells; ++t) {
             vec3 a = ra;
             vec3 b = rb;
             vec3 c = rc;
-            cellCorners(uint(t), level, a, b, c);
+            cellCorners(uint(t), rootLevel, a, b, c);
             vec3 x = (a + b + c) * (1.0f / 3.0f);
-            float ratio = distanceLowerBound(x, j, jCentre, jRadius) / (rootDiameter * levelScale);
+            float ratio = distanceLowerBound(x, j, jCentre, jRadius) / (rootDiameter * cellScale);
             // The centroid rule (far) or threePointRule, summed in one loop: one call site, so
             // a SIMD device evaluates 1 point a cell where all its lanes are far, not 4.
             int points = ratio >= DAISY_FF_FAR_RATIO ? 1 : 3;
