@@ -165,6 +165,16 @@ struct BlockOutput {
     uint64_t pairs = 0;  // unordered pairs of the block, for progress
     double cullSeconds = 0;  // spent culling (thread seconds)
     double cullPredicted = 0;  // what the calibrated model predicted for that work
+    // Empties the output for another block, keeping the lists' storage: a wave's lists are
+    // hundreds of MB in all, and fresh storage each wave cost its page faults again.
+    void reset() {
+        clear.clear();
+        trace.clear();
+        stats = {};
+        pairs = 0;
+        cullSeconds = 0;
+        cullPredicted = 0;
+    }
 };
 
 struct ThreadScratch {
@@ -283,6 +293,7 @@ private:
     // Evaluation scratch, reused across batches.
     std::vector<PairIndex> batch_;
     std::vector<float> results_;
+    std::vector<const PendingPair*> owners_;  // the PendingPair of each batch_ entry
 };
 
 // True when no patch of b is in front of a's plane or none of a in front of b's (outlines hold
@@ -412,17 +423,30 @@ void PairLoop::calibrate() {
         }
         return secondsSince(t0);
     };
+    // A traced pair costs its K rays (the slope from K to 17 K rays) and the work of tracing it
+    // at all (its sample streams, batching, the kernel only where a ray got through): what the
+    // K-ray pass takes beyond the kernel of its open pairs (the 0-ray pass is the kernel of
+    // every pair). The price of a ray is the larger of the slope and that whole cost over K:
+    // where rays are cheap (an open scene) the per-pair work is most of what culling saves.
     const int perPair = settings_.raysPerPair;
-    double few = 1e300, many = 1e300;
+    double few = 1e300, many = 1e300, kernel = 1e300;
+    double openShare = 1.0;
     for (int repeat = 0; repeat < 3; ++repeat) {
         const double a = timed(perPair);
+        if (a >= 0 && repeat == 0) {
+            const auto open = std::count_if(out.begin(), out.end(), [](float f) { return f > 0; });
+            openShare = double(open) / double(out.size());
+        }
         const double b = timed(17 * perPair);
-        if (a < 0 || b < 0) return;  // the build reports the error itself
+        const double c = timed(0);
+        if (a < 0 || b < 0 || c < 0) return;  // the build reports the error itself
         few = std::min(few, a);
         many = std::min(many, b);
+        kernel = std::min(kernel, c);
     }
-    stats_.costRaySeconds =
-        std::max(0.0, many - few) * threads / (double(pairs.size()) * 16 * perPair);
+    const double slope = std::max(0.0, many - few) / (16.0 * perPair);
+    const double whole = std::max(0.0, few - kernel * openShare) / perPair;
+    stats_.costRaySeconds = std::max(slope, whole) * threads / double(pairs.size());
     // Culling, each best of two passes (the first warms the caches): shafts with their
     // queries, shaft builds alone, and each sample shaft tested against the blockers its query
     // kept (what refinement filters).
@@ -659,7 +683,8 @@ void PairLoop::computeCluster(std::size_t block, std::size_t a, ThreadScratch& s
 // in block order, and stores both entries of each.
 Expected<void> PairLoop::evaluate(const std::vector<BlockOutput>& outputs, bool traced) {
     const int rays = traced ? settings_.raysPerPair : 0;
-    std::vector<const PendingPair*> owners;
+    std::vector<const PendingPair*>& owners = owners_;
+    owners.clear();
     const auto flush = [&]() -> Expected<void> {
         if (batch_.empty()) return {};
         if (isCancelled(settings_.cancel)) return Error{kInterruptedMessage};
@@ -764,7 +789,9 @@ Expected<FormFactorResult> PairLoop::run() {
                     wave += upperCount_[i];
                 ++last;
             }
-            outputs.assign(last - first, BlockOutput{});
+            outputs.resize(last - first);
+            for (BlockOutput& out : outputs)
+                out.reset();
             tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last, 1),
                               [&](const tbb::blocked_range<std::size_t>& range) {
                                   for (std::size_t block = range.begin(); block != range.end();
