@@ -3,8 +3,10 @@
 #include "shared/config.h"
 #include "shared/formfactor.h"
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
+// The lanes are GCC vector extensions, kept inline in their entry points (no vector crosses a
+// call, whatever -Wpsabi says about the ABI of AVX vectors).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
 #endif
 
 namespace daisy {
@@ -19,148 +21,156 @@ using shared::vec3;
 
 // Cells per root triangle the planned path takes (L <= 2); finer levels are the shared kernel's.
 constexpr int kMaxCellsPerRoot = 16;
-#if defined(__SSE2__)
 
-// Four floats, one per quadrature point. Every helper is the shared dialect's operation
-// (shared/prelude.h) lane by lane, with the same operand order, so each lane rounds as the
-// scalar code does (no FMA: baseline x86-64 has none, and nothing here asks for one).
-using Lane = __m128;
+// W floats, one per quadrature point, in GCC's generic vectors: SSE registers for W = 4 (any
+// x86-64), AVX ones for W = 8 in the avx2 entry point below. Every helper is the shared
+// dialect's operation (shared/prelude.h) lane by lane, with the same operand order, so each lane
+// rounds as the scalar code does (no FMA: neither target enables it, so nothing is contracted).
+template <int W>
+struct Lanes {
+    typedef float F __attribute__((vector_size(4 * W)));
+    typedef int32_t I __attribute__((vector_size(4 * W)));
+};
 
-Lane splat(float v) {
-    return _mm_set1_ps(v);
+// mask ? a : b per lane, as bits (mask lanes are all ones or all zeros).
+template <int W>
+[[gnu::always_inline]] inline typename Lanes<W>::F select(typename Lanes<W>::I mask,
+                                                          typename Lanes<W>::F a,
+                                                          typename Lanes<W>::F b) {
+    using I = typename Lanes<W>::I;
+    using F = typename Lanes<W>::F;
+    return F(((I)a & mask) | ((I)b & ~mask));
 }
-Lane select(Lane mask, Lane a, Lane b) {
-    return _mm_or_ps(_mm_and_ps(mask, a), _mm_andnot_ps(mask, b));
+
+template <int W>
+[[gnu::always_inline]] inline typename Lanes<W>::F absLanes(typename Lanes<W>::F x) {
+    using I = typename Lanes<W>::I;
+    using F = typename Lanes<W>::F;
+    return F((I)x & 0x7fffffff);
 }
+
 // dot(a, b) = a.x * b.x + a.y * b.y + a.z * b.z, summed left to right.
-Lane dot3(Lane ax, Lane ay, Lane az, Lane bx, Lane by, Lane bz) {
-    return _mm_add_ps(_mm_add_ps(_mm_mul_ps(ax, bx), _mm_mul_ps(ay, by)), _mm_mul_ps(az, bz));
+template <typename F>
+[[gnu::always_inline]] inline F dot3(F ax, F ay, F az, F bx, F by, F bz) {
+    return (ax * bx + ay * by) + az * bz;
 }
 
 // shared::daisyAtan2 (prelude.h), step by step.
-Lane atan2Lanes(Lane y, Lane x) {
-    const Lane signMask = splat(-0.0f);
-    const Lane zero = _mm_setzero_ps();
-    const Lane ax = _mm_andnot_ps(signMask, x);
-    const Lane ay = _mm_andnot_ps(signMask, y);
-    const Lane yOverX = _mm_cmpgt_ps(ay, ax);
-    const Lane greater = select(yOverX, ay, ax);  // max(ax, ay) = ay > ax ? ay : ax
-    const Lane lesser = select(_mm_cmplt_ps(ay, ax), ay, ax);  // min(ax, ay)
-    const Lane upper = _mm_cmpgt_ps(lesser, _mm_mul_ps(splat(0.414213562f), greater));
-    const Lane num = select(upper, _mm_sub_ps(lesser, greater), lesser);
-    const Lane den = select(upper, _mm_add_ps(lesser, greater), greater);
-    const Lane a = select(_mm_cmpgt_ps(den, zero), _mm_div_ps(num, den), zero);
-    const Lane z = _mm_mul_ps(a, a);
-    Lane p = _mm_sub_ps(_mm_mul_ps(splat(8.05374449538e-2f), z), splat(1.38776856032e-1f));
-    p = _mm_add_ps(_mm_mul_ps(p, z), splat(1.99777106478e-1f));
-    p = _mm_sub_ps(_mm_mul_ps(p, z), splat(3.33329491539e-1f));
-    Lane r = _mm_add_ps(select(upper, splat(0.785398163f), zero),
-                        _mm_add_ps(a, _mm_mul_ps(_mm_mul_ps(a, z), p)));
-    r = select(yOverX, _mm_sub_ps(splat(1.57079633f), r), r);
-    r = select(_mm_cmplt_ps(x, zero), _mm_sub_ps(splat(3.14159265f), r), r);
-    return select(_mm_cmplt_ps(y, zero), _mm_xor_ps(r, signMask), r);
+template <int W>
+[[gnu::always_inline]] inline typename Lanes<W>::F atan2Lanes(typename Lanes<W>::F y,
+                                                              typename Lanes<W>::F x) {
+    using I = typename Lanes<W>::I;
+    using F = typename Lanes<W>::F;
+    const F zero = F{};
+    const F ax = absLanes<W>(x);
+    const F ay = absLanes<W>(y);
+    const I yOverX = ay > ax;
+    const F greater = select<W>(yOverX, ay, ax);  // max(ax, ay) = ay > ax ? ay : ax
+    const F lesser = select<W>(ay < ax, ay, ax);  // min(ax, ay)
+    const I upper = lesser > 0.414213562f * greater;
+    const F num = select<W>(upper, lesser - greater, lesser);
+    const F den = select<W>(upper, lesser + greater, greater);
+    const F a = select<W>(den > zero, num / den, zero);
+    const F z = a * a;
+    F p = 8.05374449538e-2f * z - 1.38776856032e-1f;
+    p = p * z + 1.99777106478e-1f;
+    p = p * z - 3.33329491539e-1f;
+    F r = select<W>(upper, zero + 0.785398163f, zero) + (a + (a * z) * p);
+    r = select<W>(yOverX, 1.57079633f - r, r);
+    r = select<W>(x < zero, 3.14159265f - r, r);
+    return select<W>(y < zero, -r, r);
 }
 
-// shared::pointToTriangleFactor(p_k, n_k, t_k) for the scratch's points [first, first + count),
-// four at a time, each lane with its own receiver normal and target triangle: the front test,
-// the clip (taken only when it keeps the whole triangle; other lanes call the shared function)
-// and Lambert's contour sum of shared::pointToPolygonFactor. Lanes are assembled from scalar
-// loads (_mm_setr_ps).
-void pointToTriangleFactors(const FarFieldScratch& s, float* out) {
+// shared::pointToTriangleFactor(p_k, n_k, t_k) for the scratch's points, W at a time, each lane
+// with its own receiver normal and target triangle: the front test, the clip (taken only when
+// it keeps the whole triangle; other lanes call the shared function) and Lambert's contour sum of
+// shared::pointToPolygonFactor. Lanes are assembled from scalar loads.
+template <int W>
+[[gnu::always_inline]] inline void pointToTriangleFactorsOf(const FarFieldScratch& s, float* out) {
+    using I = typename Lanes<W>::I;
+    using F = typename Lanes<W>::F;
     const int count = int(s.points.size());
-    const float eps2Scalar = shared::planeEpsilon(1.0f) * shared::planeEpsilon(1.0f);
-    const Lane zero = _mm_setzero_ps();
-    const Lane eps2 = splat(eps2Scalar);
-    for (int first = 0; first < count; first += 4) {
-        int lane[4];
-        for (int k = 0; k < 4; ++k)
-            lane[k] = first + k < count ? first + k : count - 1;
-        const FarFieldScratch::Point* q[4] = {&s.points[lane[0]], &s.points[lane[1]],
-                                              &s.points[lane[2]], &s.points[lane[3]]};
-        const auto load = [&](auto get) {
-            return _mm_setr_ps(get(*q[0]), get(*q[1]), get(*q[2]), get(*q[3]));
-        };
-        const PatchGeometry* t[4] = {q[0]->target, q[1]->target, q[2]->target, q[3]->target};
-        const PatchGeometry* r[4] = {q[0]->receiver, q[1]->receiver, q[2]->receiver,
-                                     q[3]->receiver};
-        const auto targets = [&](auto get) {
-            return _mm_setr_ps(get(*t[0]), get(*t[1]), get(*t[2]), get(*t[3]));
-        };
-        const Lane px = load([](const FarFieldScratch::Point& p) { return p.position.x; });
-        const Lane py = load([](const FarFieldScratch::Point& p) { return p.position.y; });
-        const Lane pz = load([](const FarFieldScratch::Point& p) { return p.position.z; });
-        const Lane nx = _mm_setr_ps(r[0]->normal.x, r[1]->normal.x, r[2]->normal.x, r[3]->normal.x);
-        const Lane ny = _mm_setr_ps(r[0]->normal.y, r[1]->normal.y, r[2]->normal.y, r[3]->normal.y);
-        const Lane nz = _mm_setr_ps(r[0]->normal.z, r[1]->normal.z, r[2]->normal.z, r[3]->normal.z);
-        Lane cx[3], cy[3], cz[3];
-        cx[0] = targets([](const PatchGeometry& g) { return g.a.x; });
-        cy[0] = targets([](const PatchGeometry& g) { return g.a.y; });
-        cz[0] = targets([](const PatchGeometry& g) { return g.a.z; });
-        cx[1] = targets([](const PatchGeometry& g) { return g.b.x; });
-        cy[1] = targets([](const PatchGeometry& g) { return g.b.y; });
-        cz[1] = targets([](const PatchGeometry& g) { return g.b.z; });
-        cx[2] = targets([](const PatchGeometry& g) { return g.c.x; });
-        cy[2] = targets([](const PatchGeometry& g) { return g.c.y; });
-        cz[2] = targets([](const PatchGeometry& g) { return g.c.z; });
-        // In front of t: dot(t.normal, p - t.a) > 0.
-        const Lane front =
-            _mm_cmpgt_ps(dot3(targets([](const PatchGeometry& g) { return g.normal.x; }),
-                              targets([](const PatchGeometry& g) { return g.normal.y; }),
-                              targets([](const PatchGeometry& g) { return g.normal.z; }),
-                              _mm_sub_ps(px, cx[0]), _mm_sub_ps(py, cy[0]), _mm_sub_ps(pz, cz[0])),
-                         zero);
-        Lane vx[3], vy[3], vz[3];
-        Lane whole = _mm_castsi128_ps(_mm_set1_epi32(-1));
-        for (int k = 0; k < 3; ++k) {
-            vx[k] = _mm_sub_ps(cx[k], px);
-            vy[k] = _mm_sub_ps(cy[k], py);
-            vz[k] = _mm_sub_ps(cz[k], pz);
-            Lane d = dot3(nx, ny, nz, vx[k], vy[k], vz[k]);
-            const Lane onPlane = _mm_cmple_ps(
-                _mm_mul_ps(d, d), _mm_mul_ps(eps2, dot3(vx[k], vy[k], vz[k], vx[k], vy[k], vz[k])));
-            d = _mm_andnot_ps(onPlane, d);
-            whole = _mm_and_ps(whole, _mm_cmpge_ps(d, zero));
+    const float eps2 = shared::planeEpsilon(1.0f) * shared::planeEpsilon(1.0f);
+    const F zero = F{};
+    for (int first = 0; first < count; first += W) {
+        const FarFieldScratch::Point* q[W];
+        for (int k = 0; k < W; ++k)
+            q[k] = &s.points[first + k < count ? first + k : count - 1];
+        F px, py, pz, nx, ny, nz, tnx, tny, tnz, cx[3], cy[3], cz[3];
+        for (int k = 0; k < W; ++k) {
+            const PatchGeometry& t = *q[k]->target;
+            const vec3 n = q[k]->receiver->normal;
+            px[k] = q[k]->position.x, py[k] = q[k]->position.y, pz[k] = q[k]->position.z;
+            nx[k] = n.x, ny[k] = n.y, nz[k] = n.z;
+            tnx[k] = t.normal.x, tny[k] = t.normal.y, tnz[k] = t.normal.z;
+            cx[0][k] = t.a.x, cy[0][k] = t.a.y, cz[0][k] = t.a.z;
+            cx[1][k] = t.b.x, cy[1][k] = t.b.y, cz[1][k] = t.b.z;
+            cx[2][k] = t.c.x, cy[2][k] = t.c.y, cz[2][k] = t.c.z;
         }
-        Lane sum = zero;
+        // In front of t: dot(t.normal, p - t.a) > 0.
+        const I front = dot3(tnx, tny, tnz, px - cx[0], py - cy[0], pz - cz[0]) > zero;
+        F vx[3], vy[3], vz[3];
+        I whole = zero == zero;
+        for (int k = 0; k < 3; ++k) {
+            vx[k] = cx[k] - px;
+            vy[k] = cy[k] - py;
+            vz[k] = cz[k] - pz;
+            F d = dot3(nx, ny, nz, vx[k], vy[k], vz[k]);
+            const I onPlane = d * d <= eps2 * dot3(vx[k], vy[k], vz[k], vx[k], vy[k], vz[k]);
+            d = select<W>(onPlane, zero, d);
+            whole &= d >= zero;
+        }
+        F sum = zero;
         for (int k = 0; k < 3; ++k) {
             const int k1 = k == 2 ? 0 : k + 1;
             // e_k = corner_k+1 - corner_k, g = cross(v_k, e_k)
-            const Lane ex = _mm_sub_ps(cx[k1], cx[k]);
-            const Lane ey = _mm_sub_ps(cy[k1], cy[k]);
-            const Lane ez = _mm_sub_ps(cz[k1], cz[k]);
-            const Lane gx = _mm_sub_ps(_mm_mul_ps(vy[k], ez), _mm_mul_ps(vz[k], ey));
-            const Lane gy = _mm_sub_ps(_mm_mul_ps(vz[k], ex), _mm_mul_ps(vx[k], ez));
-            const Lane gz = _mm_sub_ps(_mm_mul_ps(vx[k], ey), _mm_mul_ps(vy[k], ex));
-            const Lane gLength = _mm_sqrt_ps(dot3(gx, gy, gz, gx, gy, gz));
-            const Lane gamma =
-                atan2Lanes(gLength, dot3(vx[k], vy[k], vz[k], vx[k1], vy[k1], vz[k1]));
-            const Lane term = _mm_mul_ps(gamma, _mm_div_ps(dot3(nx, ny, nz, gx, gy, gz), gLength));
-            sum = _mm_add_ps(sum, select(_mm_cmpgt_ps(gLength, zero), term, zero));
+            const F ex = cx[k1] - cx[k], ey = cy[k1] - cy[k], ez = cz[k1] - cz[k];
+            const F gx = vy[k] * ez - vz[k] * ey;
+            const F gy = vz[k] * ex - vx[k] * ez;
+            const F gz = vx[k] * ey - vy[k] * ex;
+            const F g2 = dot3(gx, gy, gz, gx, gy, gz);
+            F gLength;
+            for (int l = 0; l < W; ++l)
+                gLength[l] = shared::sqrt(g2[l]);
+            const F gamma =
+                atan2Lanes<W>(gLength, dot3(vx[k], vy[k], vz[k], vx[k1], vy[k1], vz[k1]));
+            const F term = gamma * (dot3(nx, ny, nz, gx, gy, gz) / gLength);
+            sum = sum + select<W>(gLength > zero, term, zero);
         }
         // max(0, -sum / (2 pi)) = x > 0 ? x : 0, and 0 behind t.
-        const Lane f = _mm_mul_ps(_mm_xor_ps(sum, splat(-0.0f)), splat(DAISY_INV_TWO_PI));
-        const Lane value = _mm_and_ps(front, select(_mm_cmpgt_ps(f, zero), f, zero));
-        alignas(16) float values[4];
-        _mm_store_ps(values, value);
-        const int frontBits = _mm_movemask_ps(front);
-        const int wholeBits = _mm_movemask_ps(whole);
-        for (int k = 0; k < 4 && first + k < count; ++k) {
-            const bool clipped = ((frontBits >> k) & 1) != 0 && ((wholeBits >> k) & 1) == 0;
-            out[first + k] = clipped
-                ? shared::pointToTriangleFactor(q[k]->position, r[k]->normal, *t[k])
-                : values[k];
+        const F f = -sum * DAISY_INV_TWO_PI;
+        const F value = select<W>(front, select<W>(f > zero, f, zero), zero);
+        for (int k = 0; k < W && first + k < count; ++k) {
+            const bool clipped = front[k] != 0 && whole[k] == 0;
+            out[first + k] = clipped ? shared::pointToTriangleFactor(
+                                           q[k]->position, q[k]->receiver->normal, *q[k]->target)
+                                     : value[k];
         }
     }
 }
 
-#else
-
-void pointToTriangleFactors(const FarFieldScratch& s, float* out) {
-    for (const FarFieldScratch::Point& q : s.points)
-        *out++ = shared::pointToTriangleFactor(q.position, q.receiver->normal, *q.target);
+void pointToTriangleFactorsSse(const FarFieldScratch& s, float* out) {
+    pointToTriangleFactorsOf<4>(s, out);
 }
 
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target("avx2"))) void pointToTriangleFactorsAvx2(const FarFieldScratch& s,
+                                                                float* out) {
+    pointToTriangleFactorsOf<8>(s, out);
+}
 #endif
+
+// The widest of the above the processor runs.
+void pointToTriangleFactors(const FarFieldScratch& s, float* out) {
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    if (avx2) {
+        pointToTriangleFactorsAvx2(s, out);
+        return;
+    }
+#endif
+    pointToTriangleFactorsSse(s, out);
+}
 
 // max(max(length(a), length(b)), length(c)) of the shared kernel with one square root: sqrt is
 // correctly rounded and monotone, so the largest root is the root of the largest square.
