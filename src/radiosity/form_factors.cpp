@@ -532,10 +532,12 @@ void PairLoop::refine(uint32_t nodeA, uint32_t nodeB, std::size_t lo, std::size_
     const ClusterNode& b = clusters_.nodes[nodeB];
     const auto mark = [&](Visibility v) {
         const uint32_t width = columnCluster.end - columnCluster.begin;
-        for (uint32_t i = a.begin; i < a.end; ++i) {
-            Visibility* row = scratch.visibility.data() + std::size_t(i - rowCluster.begin) * width;
-            std::fill(row + (b.begin - columnCluster.begin), row + (b.end - columnCluster.begin),
-                      v);
+        const uint32_t* order = clusters_.order.data();
+        for (uint32_t p = a.begin; p < a.end; ++p) {
+            Visibility* row =
+                scratch.visibility.data() + std::size_t(order[p] - rowCluster.begin) * width;
+            for (uint32_t q = b.begin; q < b.end; ++q)
+                row[order[q] - columnCluster.begin] = v;
         }
     };
     if (lo == hi) {

@@ -5,10 +5,16 @@
 // kMaxClusterSize long. A cluster is a contiguous index range, so a block of rows or columns of
 // F; because its patches are coplanar, none can block a ray leaving another (rays leave the
 // plane at once), so shaft queries for a cluster pair skip both clusters' own patches. Each
-// cluster carries a binary tree of its index range halved down to single patches, each node
-// with a convex outline enclosing its patches, so a partly blocked cluster pair can be refined
-// into smaller shafts. Typical meshes list neighbouring triangles together, so runs are
-// spatially compact; a scene in random order still works, with smaller clusters.
+// cluster carries a binary tree down to single patches, each node with a convex outline
+// enclosing its patches, so a partly blocked cluster pair can be refined into smaller shafts.
+// A node holds the patches order[begin, end) (a cluster's root: its whole index range). Typical
+// meshes list neighbouring triangles together, so runs cut into kMaxClusterSize pieces are
+// spatially compact, and a node's children halve its index range (order is the identity there).
+// A run in scattered order (a Blender export lists a wall's triangles shuffled: every piece of
+// it would span the whole wall, and so would every shaft) is cut into clusters of up to
+// kMaxScatteredClusterSize patches instead (by index, so each still spans the run), and their
+// trees split the patches in space (median of the centroids along the longest axis), so that
+// nodes below the first levels are compact again.
 //
 // Solid faces: maximal coplanar runs (any length) whose triangles exactly tile their convex
 // outline (areas add up), e.g. a subdivided box face. A shaft that crosses a solid face
@@ -27,12 +33,13 @@
 namespace daisy {
 
 inline constexpr uint32_t kMaxClusterSize = 32;
+inline constexpr uint32_t kMaxScatteredClusterSize = 512;
 inline constexpr int kMaxOutlineVertices = kMaxPolygonVertices;
 inline constexpr uint32_t kNoFace = 0xffffffffu;
 
 struct ClusterNode {
-    uint32_t begin = 0;  // first patch
-    uint32_t end = 0;  // one past the last patch
+    uint32_t begin = 0;  // first position in PatchClusters::order
+    uint32_t end = 0;  // one past the last position
     uint32_t outlineBegin = 0;  // into PatchClusters::outlinePoints
     uint32_t outlineCount = 0;
     uint32_t firstChild = 0;  // the two children are nodes firstChild, firstChild + 1; 0 = leaf
@@ -46,6 +53,7 @@ struct SolidFace {
 };
 
 struct PatchClusters {
+    std::vector<uint32_t> order;  // patches by tree position; a permutation within each cluster
     std::vector<uint32_t> clusterRoot;  // per cluster: its root node
     std::vector<ClusterNode> nodes;
     std::vector<Vec3d> outlinePoints;

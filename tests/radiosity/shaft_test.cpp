@@ -4,6 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
 #include "radiosity/patch_clusters.h"
 #include "verify/scenes.h"
 
@@ -106,6 +111,50 @@ TEST(PatchClusters, RunsOfCoplanarPatchesUpToTheSizeLimit) {
         }
         EXPECT_EQ(clusters.nodes[node.firstChild].begin, node.begin);
         EXPECT_EQ(clusters.nodes[node.firstChild + 1].end, node.end);
+    }
+}
+
+// A coplanar run listed in shuffled order (as a Blender export lists a wall) is cut into
+// kMaxScatteredClusterSize pieces whose trees split in space: every node holds a set of the
+// cluster's patches, the children partition it, and two levels down each node's outline covers
+// at most about a quarter of the run's (an index-range tree's would each span the whole floor).
+// The same run in mesh order keeps the index-range clusters.
+TEST(PatchClusters, ShuffledRunsSplitInSpace) {
+    TriangleMesh mesh;
+    verify::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 20, 20);  // 800 coplanar triangles
+    const PatchClusters ordered = buildPatchClusters(verify::patchesOf(mesh), 1e-9);
+    EXPECT_EQ(ordered.clusterCount(), 25u);  // 800 / 32
+    std::mt19937 rng(11);
+    std::shuffle(mesh.triangles.begin(), mesh.triangles.end(), rng);
+    const PatchClusters clusters = buildPatchClusters(verify::patchesOf(mesh), 1e-9);
+    ASSERT_EQ(clusters.clusterCount(), 2u);  // 512 + 288
+    EXPECT_EQ(clusters.cluster(0).end, kMaxScatteredClusterSize);
+    std::vector<uint32_t> sorted = clusters.order;
+    std::sort(sorted.begin(), sorted.end());
+    for (uint32_t p = 0; p < 800; ++p)
+        ASSERT_EQ(sorted[p], p);  // a permutation
+    for (uint32_t c = 0; c < 2; ++c) {  // within each cluster's own index range
+        const ClusterNode& root = clusters.cluster(c);
+        for (uint32_t p = root.begin; p < root.end; ++p) {
+            EXPECT_GE(clusters.order[p], root.begin);
+            EXPECT_LT(clusters.order[p], root.end);
+        }
+    }
+    const auto area = [&](const ClusterNode& node) {
+        const auto outline = clusters.outline(node);
+        double twice = 0;
+        for (std::size_t k = 1; k + 1 < outline.size(); ++k)
+            twice += cross(outline[k] - outline[0], outline[k + 1] - outline[0]).z;
+        return 0.5 * std::fabs(twice);
+    };
+    const ClusterNode& root = clusters.cluster(0);
+    EXPECT_GT(area(root), 0.9);  // a shuffled piece spans the floor
+    for (uint32_t child : {root.firstChild, root.firstChild + 1}) {
+        const ClusterNode& node = clusters.nodes[child];
+        EXPECT_EQ(clusters.nodes[node.firstChild].begin, node.begin);
+        EXPECT_EQ(clusters.nodes[node.firstChild + 1].end, node.end);
+        for (uint32_t grandchild : {node.firstChild, node.firstChild + 1})
+            EXPECT_LT(area(clusters.nodes[grandchild]), 0.3);
     }
 }
 
