@@ -752,7 +752,13 @@ Expected<FormFactorResult> PairLoop::run() {
         candidatePairs += upperCount_[i];
     stats_.countSeconds = secondsSince(start);
     stats_.slots = 2 * candidatePairs;
-    stats_.workBytes = formFactorWorkBytes(n_, candidatePairs);
+    uint64_t blockRows = 2 * kMaxClusterSize;
+    for (std::size_t b = 0; b + 1 < blockCluster_.size(); ++b) {
+        blockRows = std::max<uint64_t>(blockRows,
+                                       clusters_.cluster(blockCluster_[b + 1] - 1).end -
+                                           clusters_.cluster(blockCluster_[b]).begin);
+    }
+    stats_.workBytes = formFactorWorkBytes(n_, candidatePairs, blockRows);
     if (settings_.maxMemoryBytes > 0 && stats_.workBytes > settings_.maxMemoryBytes) {
         return Error{concat("the view-factor matrix needs ",
                             formatBytes(static_cast<double>(stats_.workBytes)), " for ",
@@ -778,13 +784,16 @@ Expected<FormFactorResult> PairLoop::run() {
                           settings_.progress && progressEnabledByDefault(), settings_.onProgress);
         tbb::enumerable_thread_specific<ThreadScratch> scratch;
         std::vector<BlockOutput> outputs;
+        const std::size_t threads = std::max(1, tbb::this_task_arena::max_concurrency());
         const std::size_t blockCount = blockCluster_.size() - 1;
         for (std::size_t first = 0; first < blockCount;) {
             if (isCancelled(settings_.cancel)) return Error{kInterruptedMessage};
-            // A wave: blocks until about kWavePairs candidates (at least one block).
+            // A wave: blocks until about kWavePairs candidates, and at least one block a thread
+            // (a block is classified by one thread: the large clusters of scattered runs would
+            // otherwise leave the other threads idle).
             std::size_t last = first;
             uint64_t wave = 0;
-            while (last < blockCount && (last == first || wave < kWavePairs)) {
+            while (last < blockCount && (last - first < threads || wave < kWavePairs)) {
                 const uint32_t begin = clusters_.cluster(blockCluster_[last]).begin;
                 const uint32_t end = clusters_.cluster(blockCluster_[last + 1] - 1).end;
                 for (uint32_t i = begin; i < end; ++i)
@@ -870,13 +879,14 @@ const char* formFactorMethodName(FormFactorMethod method) {
     return "?";
 }
 
-uint64_t formFactorWorkBytes(uint64_t patchCount, uint64_t candidatePairs) {
+uint64_t formFactorWorkBytes(uint64_t patchCount, uint64_t candidatePairs, uint64_t blockRows) {
     const uint64_t n = patchCount;
     const uint64_t rowBlocks = n / kMinRowBlockRows + 1;
     const uint64_t threads = std::max(1, tbb::this_task_arena::max_concurrency());
-    // A wave's pending pairs (at most kWavePairs plus one block of <= 2 x kMaxClusterSize
-    // rows) and one batch of pairs with their results.
-    const uint64_t wave = std::min(candidatePairs, kWavePairs + 2 * uint64_t(kMaxClusterSize) * n);
+    // A wave's pending pairs (at most kWavePairs plus one block, or one block a thread: each of
+    // at most blockRows rows) and one batch of pairs with their results.
+    const uint64_t wave =
+        std::min(candidatePairs, std::max(kWavePairs + blockRows * n, threads * blockRows * n));
     const uint64_t batch = std::min(candidatePairs, kWavePairs);
     return sparseMatrixBytes(n, 2 * candidatePairs) + CandidateBitmap::bytes(n) +
         4 * n * rowBlocks + 4 * n * (2 + threads) + wave * sizeof(PendingPair) +

@@ -109,8 +109,10 @@ struct FormFactorResult {
 
 // Bytes the build will hold at its peak for `candidatePairs` unordered candidate pairs among n
 // patches: the CSR with 2 x candidatePairs slots, the candidate bitmap, the row blocks' column
-// tables and per-thread scratch.
-uint64_t formFactorWorkBytes(uint64_t patchCount, uint64_t candidatePairs);
+// tables, per-thread scratch and a wave's pending pairs, with row blocks of at most
+// `blockRows` rows (the usual 2 x 32 unless clusters of scattered runs are larger:
+// radiosity/patch_clusters.h).
+uint64_t formFactorWorkBytes(uint64_t patchCount, uint64_t candidatePairs, uint64_t blockRows = 64);
 
 // Builds F. Fails with a message (exit status 2 in the app) when the settings are out of range
 // or the build would need more than settings.maxMemoryBytes. The cpu backend's form: pairs
