@@ -66,6 +66,7 @@ struct RenderOptions {
     // direct light from the emitters: image/final_gather.h)
     std::string gather = "direct";
     int gatherRays = 16;  // shadow segments per light per sample of the direct gather
+    double nearRadius = 3;  // --gather near: R in patch sizes (image/near_field.h)
 };
 
 struct ViewOptions {

@@ -54,8 +54,9 @@ TEST(BenchPathCli, MeasuresAgainstThePathTracedReference) {
     EXPECT_NE(first.output.find("the path tracer reaches 2% in"), std::string::npos);
     const std::map<std::string, double> rows = rmsBySetting(csv);
     // path 1 and 4 spp; radiosity none 1 spp, direct 1 and 4 spp, direct 1 spp with 16 and 64
-    // at edges
-    ASSERT_EQ(rows.size(), 7u);
+    // at edges, near 1 spp with 16 at edges
+    ASSERT_EQ(rows.size(), 8u);
+    ASSERT_TRUE(rows.count("radiosity,auto, gather near, 1 spp (16 at edges)"));
     ASSERT_TRUE(rows.count("path,1 spp") && rows.count("path,4 spp"));
     // The path tracer's own noise halves with 4x the samples (its error against a 64-spp
     // reference with that reference's variance taken out).
@@ -74,7 +75,7 @@ TEST(BenchPathCli, MeasuresAgainstThePathTracedReference) {
               rows.at("radiosity,auto, gather direct, 1 spp"));
     for (const char* suffix :
          {".png", ".reference.png", ".error-gather-none.png", ".error-gather-direct.png",
-          ".error-default.png", ".path-reference.bin"}) {
+          ".error-gather-near.png", ".error-default.png", ".path-reference.bin"}) {
         EXPECT_TRUE(std::filesystem::exists(dir / (std::string("cb") + suffix))) << suffix;
     }
     auto chart = readPng((dir / "cb.png").string());
