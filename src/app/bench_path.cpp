@@ -8,9 +8,9 @@
 //   1, 4, 16, 64 and 256 spp.
 // - The radiosity rows: the automatic patch size (or --subdivide; labelled "auto") and two finer
 //   ones (edge / 1.5, / 2), each with --gather none at 1 spp, --gather direct at 1 and 4 spp
-//   without edge supersampling, --gather direct at 1 spp with 16 (`daisy render`'s
-//   default) and 64 samples at edges (image/edge_sampling.h), and --gather near at 1 spp with
-//   16 at edges; a row's time is the whole pipeline (patches, F without the cache, solve, image).
+//   without edge supersampling, --gather direct at 1 spp with 16 and 64 samples at edges
+//   (image/edge_sampling.h), and --gather near at 1 spp with 16 at edges (`daisy render`'s
+//   default); a row's time is the whole pipeline (patches, F without the cache, solve, image).
 // Error (bench/image_error.h): relative RMS luminance with the reference's own noise taken out,
 // and mean CIE76 / CIEDE2000 as displayed at the reference's exposure, emitter pixels and a
 // 2-pixel neighbourhood left out. Output: the CSV, a log-log chart of both curves, the reference
@@ -51,12 +51,11 @@ struct ImageSetting {
     int samples;
     int edgeSamples;
 };
-// The first is the smooth image (the viewer's), the fourth `daisy render`'s default.
+// The first is the smooth image (the viewer's), the last `daisy render`'s default.
 constexpr ImageSetting kImageSettings[] = {{GatherMode::None, 1, 0},    {GatherMode::Direct, 1, 0},
                                            {GatherMode::Direct, 4, 0},  {GatherMode::Direct, 1, 16},
                                            {GatherMode::Direct, 1, 64}, {GatherMode::Near, 1, 16}};
-constexpr std::size_t kDefaultImage = 3;
-constexpr std::size_t kNearImage = 5;
+constexpr std::size_t kDefaultImage = 5;
 
 struct Reference {
     Image xyz;  // 3 channels
@@ -321,7 +320,7 @@ int runPathBench(const CommonOptions& options, const BenchOptions& bench) {
             // Error images of the automatic size: the smooth image, the gather at 1 spp
             // without edge supersampling, and the default.
             const std::size_t which = std::size_t(&setting - kImageSettings);
-            if (divisor == 1 && (which <= 1 || which == kDefaultImage || which == kNearImage)) {
+            if (divisor == 1 && (which <= 1 || which == kDefaultImage)) {
                 const std::string errorPath =
                     stemPath(csvPath,
                              which == kDefaultImage

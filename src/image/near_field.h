@@ -45,7 +45,7 @@ namespace daisy {
 
 struct NearFieldSettings {
     // R in patch sizes (the median longest patch edge); 0 = no near-field gather.
-    double radius = 3;
+    double radius = 2;
     // Most neighbours a receiving patch keeps (the nearest by centroid distance), so a scene of
     // a few large triangles does not evaluate every patch at every sample.
     int maxNeighbours = 256;
