@@ -147,9 +147,11 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
             const float extent =
                 std::max({length(gi.a - ci), length(gi.b - ci), length(gi.c - ci)});
             candidates.clear();
+            const float limit2 = (reach + extent) * (reach + extent);
             for (std::size_t e = 0; e < columns.size(); ++e) {
-                const float d = length(centroids[columns[e]] - ci);
-                if (fij[e] > 0 && d < reach + extent) candidates.push_back({d, uint32_t(e)});
+                const shared::vec3 d = centroids[columns[e]] - ci;
+                const float d2 = dot(d, d);  // squared: sorts the same, no root per entry
+                if (fij[e] > 0 && d2 < limit2) candidates.push_back({d2, uint32_t(e)});
             }
             if (candidates.empty()) continue;
             std::sort(candidates.begin(), candidates.end());

@@ -44,10 +44,11 @@
 namespace daisy {
 
 struct NearFieldSettings {
-    // R in patch sizes (the median longest patch edge); 0 = no near-field gather.
+    // R in patch sizes (the median longest patch edge); 0 = no near field, only the buried
+    // parts (patch_exposure.h).
     double radius = 2;
     // Most neighbours a receiving patch keeps (the nearest by centroid distance), so a scene of
-    // a few large triangles does not evaluate every patch at every sample.
+    // a few large triangles does not gather every patch at every lattice node.
     int maxNeighbours = 256;
 };
 
