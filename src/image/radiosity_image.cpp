@@ -1,5 +1,7 @@
 #include "image/radiosity_image.h"
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 
 #include "core/strings.h"
@@ -42,10 +44,15 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
         std::vector<double> weights;  // the patch areas (empty), or their exposed parts
         if (mode == GatherMode::Near) {
             Timer nearTimer;
-            auto exposure = patchExposure(session.patches());
+            // On the image's threads (--threads), as the ray-cast passes.
+            tbb::task_arena arena(settings.threads > 0 ? settings.threads
+                                                       : tbb::task_arena::automatic);
+            auto exposure = arena.execute([&] { return patchExposure(session.patches()); });
             if (!exposure) return exposure.error();
-            near = NearField::build(session.patches(), session.system(), session.formFactors(), b,
-                                    *exposure, nearField);
+            arena.execute([&] {
+                near = NearField::build(session.patches(), session.system(), session.formFactors(),
+                                        b, *exposure, nearField);
+            });
             near.toFarRadiosity(session.system(), smooth);
             weights = exposedAreas(session.patches(), *exposure);
             t.nearSeconds = nearTimer.seconds();
