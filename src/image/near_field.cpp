@@ -194,11 +194,16 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
             values[i].assign(sums.begin(), sums.end());
         }
     });
+    std::size_t total = 0;
+    for (const auto& v : values)
+        total += v.size();
+    field.nodes_.reserve(total);
     for (std::size_t i = 0; i < n; ++i) {
         field.pairCount_ += pairs[i];
         if (values[i].empty()) continue;
         field.firstNode_[i] = uint32_t(field.nodes_.size() / stride);
         field.nodes_.insert(field.nodes_.end(), values[i].begin(), values[i].end());
+        std::vector<float>().swap(values[i]);  // the copies go as the lattice fills
     }
     return field;
 }
