@@ -18,6 +18,12 @@ namespace {
 // Least far share 1 - Omega_i the far radiosity is spread over (a patch deep in a crevice).
 constexpr double kMinFarShare = 0.05;
 
+// Least exposed share a partly buried patch's values are divided by: phi counts 16 points, so
+// under 4 of them it is too coarse (the solution's own exposed share may be twice or half) for
+// a division not to amplify; such slivers are corrected in part. Costs the Cornell box 0.006
+// points (docs/performance.md).
+constexpr float kMinExposedShare = 0.25f;
+
 // The lattice: nodes (a, b), a + b <= 4, at barycentrics a / 4 on corner 1 and b / 4 on corner
 // 2; its 16 children are patch_exposure.h's, in the same order.
 constexpr int kDivisions = 4;
@@ -92,7 +98,10 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
     NearField field;
     field.wavelengthCount_ = m;
     field.radius_ = std::max(0.0, settings.radius * medianPatchSize(patches));
+    // phi for the division, at least kMinExposedShare where any point is exposed.
     field.exposed_ = exposure.fraction;
+    for (float& phi : field.exposed_)
+        phi = phi > 0 ? std::max(phi, kMinExposedShare) : 0.0f;
     field.firstNode_.assign(n, kNoNodes);
     field.patchMeans_.assign(n * m, 0.0);
     field.hiddenGain_.assign(n * m, 0.0);
@@ -109,7 +118,7 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
         geometry[p].area = float(patches.areas[p]);
         centroids[p] = toVec3(patches.centroids[p]);
         // The exposed part's reflected radiosity (patch_exposure.h); 0 for a buried patch.
-        const double phi = exposure.fraction[p];
+        const double phi = field.exposed_[p];
         for (std::size_t k = 0; k < m; ++k)
             reflected[p * m + k] =
                 phi > 0 ? (radiosity[p * m + k] - system.emissionRow(uint32_t(p))[k]) / phi : 0.0;
@@ -129,14 +138,14 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
         std::array<float, kNodes> factor{};
         std::vector<double> sums(kNodes * stride);
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
-            const double phi = exposure.fraction[i];
+            const double phi = field.exposed_[i];
             if (system.operators[system.patchOperator[i]].isZero || phi <= 0) continue;
             const auto columns = formFactors.rowColumns(uint32_t(i));
             const auto fij = formFactors.rowValues(uint32_t(i));
             double* gain = field.hiddenGain_.data() + i * m;
             for (std::size_t e = 0; e < columns.size(); ++e) {
                 const uint32_t j = columns[e];
-                const double phiJ = exposure.fraction[j];
+                const double phiJ = field.exposed_[j];
                 if (phiJ <= 0 || phiJ >= 1) continue;
                 for (std::size_t k = 0; k < m; ++k)
                     gain[k] += fij[e] * (1 - phiJ) * reflected[j * m + k];
