@@ -23,13 +23,15 @@
 // near light instead of adding it. The image is, per sample (S the smooth image of
 // S_i = E_i + M_i (G_i - D_i - N_i) / (1 - Omega_i)):
 //     S(x) + [M_i H(x) + M_i Near(x)] / pi - Omega(x) (S(x) - E_i / pi),
-// whose patch mean is B_i / pi (light moved within patches, none added). In a closed room of
-// uniform E and rho it is B = E / (1 - rho) at every point; where no near patch is in view it is
-// the direct gather's image. Patches partly buried under an object (patch_exposure.h) take
-// their exposed part's values: (B_j - E_j) / phi_j as a neighbour, means over the exposed
-// children of the lattice, and each receiver gets the light the hidden fractions took from it,
-// sum_j F_ij (B_j - E_j) (1 / phi_j - 1). Deterministic: no random numbers. The emitters' own E is
-// never gathered (the direct gather's), and B_j - E_j carries what reached j directly.
+// whose patch mean is B_i / pi (light moved within patches, none added but the buried parts'
+// below). In a closed room of uniform E and rho it is B = E / (1 - rho) at every point; where
+// no near patch is in view it is the direct gather's image. Patches partly buried under an
+// object (patch_exposure.h) take their exposed part's values: (B_j - E_j) / phi_j as a
+// neighbour, means over the exposed children of the lattice, the smooth value over phi_i, and
+// each receiver gets the light the hidden fractions took from it, sum_j F_ij (B_j - E_j)
+// (1 / phi_j - 1) (one bounce); phi is floored at 1/4 for these divisions. Deterministic: no
+// random numbers. The emitters' own E is never gathered (the direct gather's), and B_j - E_j
+// carries what reached j directly.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -54,9 +56,11 @@ struct NearFieldSettings {
 
 class NearField {
 public:
-    // Lists, per receiving patch, the patches j with F_ij > 0 that can lie within R of it, their
-    // visibility v_ij and the patch mean N_i (an m-vector). `radiosity`: the solved B (n x m,
-    // the system's layout). Parallel over patches; deterministic.
+    // Per receiving patch: Near and Omega at its 15 lattice nodes over the patches j with
+    // F_ij > 0 that can lie within R of it, their means N_i and Omega_i over its exposed
+    // children, and the light its hidden-fraction neighbours took. `radiosity`: the solved B
+    // (n x m, the system's layout). Parallel over patches (the caller's TBB arena);
+    // deterministic.
     static NearField build(const PatchMesh& patches, const RadiositySystem& system,
                            const SparseMatrix& formFactors, std::span<const double> radiosity,
                            const PatchExposure& exposure, const NearFieldSettings& settings);
