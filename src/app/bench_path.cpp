@@ -8,9 +8,9 @@
 //   1, 4, 16, 64 and 256 spp.
 // - The radiosity rows: the automatic patch size (or --subdivide; labelled "auto") and two finer
 //   ones (edge / 1.5, / 2), each with --gather none at 1 spp, --gather direct at 1 and 4 spp
-//   without edge supersampling, and --gather direct at 1 spp with 16 (`daisy render`'s
-//   default) and 64 samples at edges (image/edge_sampling.h); a row's time is the whole
-//   pipeline (patches, F without the cache, solve, image).
+//   without edge supersampling, --gather direct at 1 spp with 16 and 64 samples at edges
+//   (image/edge_sampling.h), and --gather near at 1 spp with 16 at edges (`daisy render`'s
+//   default); a row's time is the whole pipeline (patches, F without the cache, solve, image).
 // Error (bench/image_error.h): relative RMS luminance with the reference's own noise taken out,
 // and mean CIE76 / CIEDE2000 as displayed at the reference's exposure, emitter pixels and a
 // 2-pixel neighbourhood left out. Output: the CSV, a log-log chart of both curves, the reference
@@ -51,13 +51,11 @@ struct ImageSetting {
     int samples;
     int edgeSamples;
 };
-// The first is the smooth image (the viewer's), the fourth `daisy render`'s default.
-constexpr ImageSetting kImageSettings[] = {{GatherMode::None, 1, 0},
-                                           {GatherMode::Direct, 1, 0},
-                                           {GatherMode::Direct, 4, 0},
-                                           {GatherMode::Direct, 1, 16},
-                                           {GatherMode::Direct, 1, 64}};
-constexpr std::size_t kDefaultImage = 3;
+// The first is the smooth image (the viewer's), the last `daisy render`'s default.
+constexpr ImageSetting kImageSettings[] = {{GatherMode::None, 1, 0},    {GatherMode::Direct, 1, 0},
+                                           {GatherMode::Direct, 4, 0},  {GatherMode::Direct, 1, 16},
+                                           {GatherMode::Direct, 1, 64}, {GatherMode::Near, 1, 16}};
+constexpr std::size_t kDefaultImage = 5;
 
 struct Reference {
     Image xyz;  // 3 channels
@@ -364,9 +362,11 @@ int runPathBench(const CommonOptions& options, const BenchOptions& bench) {
     chart.yLabel = "relative RMS luminance error (%)";
     chart.referenceY = 100 * kTargetError;
     chart.referenceLabel = "target 2%";
-    chart.seriesNames = {"path tracer", "radiosity", "+ direct gather", "+ edge AA"};
+    chart.seriesNames = {"path tracer", "radiosity", "+ direct gather", "+ edge AA",
+                         "+ near field"};
     for (const Row& row : rows) {
         const int series = row.kind == "path"                      ? 0
+            : row.label.find("gather near") != std::string::npos   ? 4
             : row.label.find("at edges") != std::string::npos      ? 3
             : row.label.find("gather direct") != std::string::npos ? 2
                                                                    : 1;

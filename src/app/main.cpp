@@ -75,9 +75,15 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     renderCmd
         ->add_option("--gather", render.gather,
-                     "Final gather: none (smooth vertex radiance) or direct (exact direct light "
-                     "per sample)")
-        ->check(CLI::IsMember({"none", "direct"}))
+                     "Final gather: none (smooth vertex radiance), direct (exact direct light "
+                     "per sample) or near (direct, plus the indirect light from patches within "
+                     "--near-radius per sample)")
+        ->check(CLI::IsMember({"none", "direct", "near"}))
+        ->capture_default_str();
+    renderCmd
+        ->add_option("--near-radius", render.nearRadius,
+                     "Radius of --gather near's per-sample indirect light, in patch sizes")
+        ->check(CLI::Range(0.0, 16.0))
         ->capture_default_str();
     renderCmd
         ->add_option("--gather-rays", render.gatherRays,

@@ -63,9 +63,11 @@ struct RenderOptions {
     // src/pathtrace/: no F, no solve)
     std::string integrator = "radiosity";
     // none (the smooth vertex-radiance image, as the viewer shows it) | direct (plus per-sample
-    // direct light from the emitters: image/final_gather.h)
-    std::string gather = "direct";
+    // direct light from the emitters: image/final_gather.h) | near (direct, plus the near-field
+    // indirect light and the buried parts of patches: image/near_field.h)
+    std::string gather = "near";
     int gatherRays = 16;  // shadow segments per light per sample of the direct gather
+    double nearRadius = 2;  // --gather near: R in patch sizes (image/near_field.h)
 };
 
 struct ViewOptions {

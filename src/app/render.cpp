@@ -262,14 +262,16 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     DirectLightSettings direct;
     direct.shadowRays = render.gatherRays;
     direct.seed = static_cast<uint32_t>(options.seed);
+    NearFieldSettings nearField;
+    nearField.radius = render.nearRadius;
     RadiosityImageTimes imageTimes;
-    auto rendered =
-        renderRadiosityImage(*session, camera, settings, gather, direct, spectral, &imageTimes);
+    auto rendered = renderRadiosityImage(*session, camera, settings, gather, direct, spectral,
+                                         &imageTimes, nearField);
     if (!rendered) {
         logError(concat(options.scenePath, ": ", rendered.error().message));
         return 1;
     }
-    const bool gatherDirect = gather == GatherMode::Direct;
+    const bool gatherDirect = gather != GatherMode::None;
     const double shadeSeconds = imageTimes.shadeSeconds;
     const double renderSeconds = imageTimes.renderSeconds;
     const double gatherSeconds = imageTimes.gatherSeconds;
@@ -301,6 +303,8 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
         formFactors.fromCache ? " (from the cache)" : "", ", solve ",
         formatDuration(t.solveSeconds), ", shade ", formatDuration(shadeSeconds), ", render ",
         formatDuration(renderSeconds),
+        gather == GatherMode::Near ? concat(", near field ", formatDuration(imageTimes.nearSeconds))
+                                   : "",
         gatherDirect ? concat(", final gather ", formatDuration(gatherSeconds)) : "", ", write ",
         formatDuration(writeSeconds), "; total ", formatDuration(total.seconds())));
     logInfo(concat("  patches: ", formatCount(s.patches().patchCount()), " from ",

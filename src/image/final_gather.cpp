@@ -182,7 +182,7 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                                   const RadiositySystem& system, const WavelengthSet& set,
                                   const Camera& camera, const RenderSettings& settings,
                                   const DirectLightSettings& direct, bool spectral,
-                                  const SampleShader* shader) {
+                                  const SampleShader* shader, const NearField* nearField) {
     if (settings.width <= 0 || settings.height <= 0 || settings.samplesPerPixel <= 0 ||
         direct.shadowRays <= 0) {
         return Error{concat("final gather: image size ", settings.width, " x ", settings.height,
@@ -200,7 +200,8 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
     const int channels = int(spectral ? m : 0) + 4;
     const int xyzChannel = spectral ? int(m) : 0;
     Image image(settings.width, settings.height, channels);
-    if (lights.empty()) return image;
+    const bool gatherNear = nearField != nullptr && !nearField->empty();
+    if (lights.empty() && !gatherNear) return image;
     if (!settings.pixelSides.empty() &&
         settings.pixelSides.size() != std::size_t(settings.width) * settings.height) {
         return Error{concat("final gather: ", settings.pixelSides.size(),
@@ -299,7 +300,7 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                     // importance sampling, each segment weighted by the exact factor over the
                     // shared weight), so a supersampled edge pixel costs a few light loops,
                     // not one per sample.
-                    if (exactWeights || p != weightsPatch) {
+                    if (!lights.empty() && (exactWeights || p != weightsPatch)) {
                         total = 0;
                         for (std::size_t l = 0; l < lights.size(); ++l) {
                             factor[l] = exactWeights
@@ -310,9 +311,12 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                         }
                         weightsPatch = p;
                     }
-                    if (total <= 0) continue;
-                    segments.resize(std::size_t(k));
-                    for (int q = 0; q < k; ++q) {
+                    std::fill(irradiance.begin(), irradiance.end(), 0.0);
+                    const double covered =
+                        gatherNear ? nearField->addIrradiance(p, hit.u, hit.v, irradiance) : 0.0;
+                    const int drawn = total > 0 ? k : 0;
+                    segments.resize(std::size_t(drawn));
+                    for (int q = 0; q < drawn; ++q) {
                         const uint32_t stratum =
                             shared::permuteIndex(uint32_t(s * k + q), uint32_t(strata), pixelSeed);
                         const double u =
@@ -330,11 +334,12 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                         const shared::vec3 end = e + (xf - e) * kLightClearance;
                         segments.set(std::size_t(q), xf.x, xf.y, xf.z, end.x, end.y, end.z);
                     }
-                    tracer.occluded(segments, std::span<uint8_t>(blocked.data(), std::size_t(k)));
+                    if (drawn > 0)
+                        tracer.occluded(segments,
+                                        std::span<uint8_t>(blocked.data(), std::size_t(drawn)));
                     // H = sum_l E_l F_l V_l, each segment an estimate of E_l F_l / p_l with
                     // p_l = F_l P_l / total: E_l total / (P_l k) when open.
-                    std::fill(irradiance.begin(), irradiance.end(), 0.0);
-                    for (int q = 0; q < k; ++q) {
+                    for (int q = 0; q < drawn; ++q) {
                         if (blocked[std::size_t(q)]) continue;
                         const uint32_t l = chosen[std::size_t(q)];
                         const Light& light = lights[l];
@@ -363,6 +368,7 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                     const Xyz xyz = set.toXyz(reflected);
                     for (int a = 0; a < 3; ++a)
                         sampleValues[std::size_t(xyzChannel + a)] = xyz[std::size_t(a)];
+                    if (covered > 0) nearField->removeCovered(hit, covered, sampleValues);
                     if (shader != nullptr) shader->shade(hit, sampleValues);
                     for (std::size_t v = 0; v < sampleValues.size(); ++v)
                         sum[v] += sampleValues[v];

@@ -27,6 +27,7 @@
 #include "core/expected.h"
 #include "geometry/patch_mesh.h"
 #include "image/image.h"
+#include "image/near_field.h"
 #include "image/renderer.h"
 #include "radiosity/radiosity_system.h"
 #include "radiosity/sparse_matrix.h"
@@ -58,11 +59,13 @@ std::vector<float> radiosityChannels(const WavelengthSet& set, std::span<const d
 // filter, in the channels of radiosityChannels (coverage 0).
 // Lights are the emitting triangles of scene.mesh, faces merged (emitter_lights.h). Fails (no
 // crash) on what renderCornerValues refuses. `shader` (renderCornerValues's) moves hits to back
-// patches and puts the texture detail on each sample's direct light.
+// patches and puts the texture detail on each sample's direct light. With `nearField`, each
+// sample's irradiance also takes its near-field indirect part Near(x) (near_field.h).
 Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                                   const RadiositySystem& system, const WavelengthSet& set,
                                   const Camera& camera, const RenderSettings& settings,
                                   const DirectLightSettings& direct, bool spectral,
-                                  const SampleShader* shader = nullptr);
+                                  const SampleShader* shader = nullptr,
+                                  const NearField* nearField = nullptr);
 
 }  // namespace daisy

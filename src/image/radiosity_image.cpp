@@ -1,10 +1,13 @@
 #include "image/radiosity_image.h"
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 
 #include "core/strings.h"
 #include "core/timer.h"
 #include "image/edge_sampling.h"
+#include "image/patch_exposure.h"
 #include "image/pixel_samples.h"
 #include "image/texture_detail.h"
 #include "pipeline/vertex_radiance.h"
@@ -14,35 +17,59 @@ namespace daisy {
 Expected<GatherMode> parseGatherMode(const std::string& text) {
     if (text == "none") return GatherMode::None;
     if (text == "direct") return GatherMode::Direct;
-    return Error{concat("--gather: '", text, "' is not none or direct")};
+    if (text == "near") return GatherMode::Near;
+    return Error{concat("--gather: '", text, "' is not none, direct or near")};
 }
 
 const char* gatherModeName(GatherMode mode) {
-    return mode == GatherMode::Direct ? "direct" : "none";
+    return mode == GatherMode::Near ? "near" : mode == GatherMode::Direct ? "direct" : "none";
 }
 
 Expected<Image> renderRadiosityImage(const Session& session, const Camera& camera,
                                      const RenderSettings& settings, GatherMode mode,
                                      const DirectLightSettings& direct, bool spectral,
-                                     RadiosityImageTimes* times) {
+                                     RadiosityImageTimes* times,
+                                     const NearFieldSettings& nearField) {
     RadiosityImageTimes local;
     RadiosityImageTimes& t = times ? *times : local;
     Timer stage;
     const int channels = Session::channelCount(session.system().wavelengthCount, spectral);
     std::vector<float> corners;
-    if (mode == GatherMode::Direct) {
+    NearField near;
+    if (mode != GatherMode::None) {
         const std::vector<double>& b =
             session.hasSolution() ? session.solution().radiosity : session.system().emission;
-        corners = cornerValues(
-            session.patches(),
-            radiosityChannels(
-                session.wavelengths(),
-                radiosityWithoutDirectLight(session.system(), session.formFactors(), b), spectral),
-            channels);
+        std::vector<double> smooth =
+            radiosityWithoutDirectLight(session.system(), session.formFactors(), b);
+        std::vector<double> weights;  // the patch areas (empty), or their exposed parts
+        if (mode == GatherMode::Near) {
+            Timer nearTimer;
+            // On the image's threads (--threads), as the ray-cast passes.
+            tbb::task_arena arena(settings.threads > 0 ? settings.threads
+                                                       : tbb::task_arena::automatic);
+            auto exposure = arena.execute([&] { return patchExposure(session.patches()); });
+            if (!exposure) return exposure.error();
+            arena.execute([&] {
+                near = NearField::build(session.patches(), session.system(), session.formFactors(),
+                                        b, *exposure, nearField);
+            });
+            near.toFarRadiosity(session.system(), smooth);
+            weights = exposedAreas(session.patches(), *exposure);
+            t.nearSeconds = nearTimer.seconds();
+        }
+        corners = cornerValues(session.patches(),
+                               radiosityChannels(session.wavelengths(), smooth, spectral), channels,
+                               kCreaseAngleRad, weights);
+        if (!near.empty()) {
+            near.setSmoothImage(
+                corners,
+                radiosityChannels(session.wavelengths(), session.system().emission, spectral),
+                channels);
+        }
     } else {
         corners = session.cornerChannels(spectral);
     }
-    t.shadeSeconds = stage.seconds();
+    t.shadeSeconds = stage.seconds() - t.nearSeconds;
 
     stage.restart();
     const std::vector<float> missValue(std::size_t(channels), 0.0f);
@@ -67,11 +94,11 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
                                     missValue, shader);
     if (!image) return image.error();
     t.renderSeconds = stage.seconds();
-    if (mode == GatherMode::Direct) {
+    if (mode != GatherMode::None) {
         stage.restart();
-        auto lit =
-            renderDirectLight(session.scene(), session.patches(), session.system(),
-                              session.wavelengths(), camera, sampled, direct, spectral, shader);
+        auto lit = renderDirectLight(session.scene(), session.patches(), session.system(),
+                                     session.wavelengths(), camera, sampled, direct, spectral,
+                                     shader, mode == GatherMode::Near ? &near : nullptr);
         if (!lit) return lit.error();
         for (std::size_t i = 0; i < image->pixels.size(); ++i)
             image->pixels[i] += lit->pixels[i];

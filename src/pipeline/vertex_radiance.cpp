@@ -10,8 +10,11 @@
 namespace daisy {
 
 std::vector<float> cornerValues(const PatchMesh& mesh, std::span<const float> patchValues,
-                                int channels, double creaseAngleRad) {
+                                int channels, double creaseAngleRad,
+                                std::span<const double> areaWeights) {
     DAISY_CHECK(channels > 0);
+    DAISY_CHECK(areaWeights.empty() || areaWeights.size() == mesh.patchCount());
+    const std::span<const double> areas = areaWeights.empty() ? mesh.areas : areaWeights;
     DAISY_CHECK(patchValues.size() == mesh.patchCount() * std::size_t(channels));
     DAISY_CHECK(mesh.vertexPatchOffsets.size() == mesh.vertexCount() + 1);
     const std::size_t stride = std::size_t(channels);
@@ -28,7 +31,7 @@ std::vector<float> cornerValues(const PatchMesh& mesh, std::span<const float> pa
                     for (const uint32_t q : mesh.patchesAtVertex(mesh.patches[p][c])) {
                         if (mesh.materials[q] != mesh.materials[p]) continue;
                         if (dot(mesh.normals[q], mesh.normals[p]) < cosCrease) continue;
-                        const double area = mesh.areas[q];
+                        const double area = areas[q];
                         weight += area;
                         for (std::size_t k = 0; k < stride; ++k)
                             sum[k] += area * patchValues[q * stride + k];

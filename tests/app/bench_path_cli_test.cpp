@@ -54,8 +54,9 @@ TEST(BenchPathCli, MeasuresAgainstThePathTracedReference) {
     EXPECT_NE(first.output.find("the path tracer reaches 2% in"), std::string::npos);
     const std::map<std::string, double> rows = rmsBySetting(csv);
     // path 1 and 4 spp; radiosity none 1 spp, direct 1 and 4 spp, direct 1 spp with 16 and 64
-    // at edges
-    ASSERT_EQ(rows.size(), 7u);
+    // at edges, near 1 spp with 16 at edges
+    ASSERT_EQ(rows.size(), 8u);
+    ASSERT_TRUE(rows.count("radiosity,auto, gather near, 1 spp (16 at edges)"));
     ASSERT_TRUE(rows.count("path,1 spp") && rows.count("path,4 spp"));
     // The path tracer's own noise halves with 4x the samples (its error against a 64-spp
     // reference with that reference's variance taken out).
@@ -68,7 +69,7 @@ TEST(BenchPathCli, MeasuresAgainstThePathTracedReference) {
     const double direct4 = rows.at("radiosity,auto, gather direct, 4 spp");
     EXPECT_LT(direct4, rows.at("path,1 spp") / 4);
     EXPECT_LT(direct4, rows.at("radiosity,auto, gather none, 1 spp"));
-    // Edge supersampling (the render default) beats 1 spp everywhere: on a 48 x 48 image most
+    // Edge supersampling beats 1 spp everywhere: on a 48 x 48 image most
     // of the error is at silhouettes and creases.
     EXPECT_LT(rows.at("radiosity,auto, gather direct, 1 spp (16 at edges)"),
               rows.at("radiosity,auto, gather direct, 1 spp"));

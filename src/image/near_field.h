@@ -1,0 +1,111 @@
+#pragma once
+// Near-field indirect gather at render time (issue 16, session 3; docs/rendering.md). The smooth
+// image holds each patch's area mean of the light it gathers, interpolated over vertices, which
+// averages away the peak of the interreflected light in a concave corner: at a point x a
+// fraction of a patch from a crease, the neighbour across the crease fills up to half of x's
+// hemisphere, where the patch mean sees much less of it.
+//
+// Split of the indirect gather G_i - D_i = sum_j F_ij (B_j - E_j) (final_gather.h) into a near
+// part, over the patches j whose centroids lie within the radius R of the receiver, and a far
+// part. At a point x on patch i the near part uses the exact point-to-triangle factor (Lambert's
+// contour formula, shared/formfactor.h), window-weighted by distance:
+//     Near(x) = sum_{j near i} w(|x - c_j|) v_ij F(x -> j) (B_j - E_j),
+//     Omega(x) = sum_{j near i} w(|x - c_j|) v_ij F(x -> j)   (the share of x's hemisphere),
+// w = 1 up to R / 2, a smoothstep to 0 at R; v_ij the pair's visibility, F_ij over the mean of
+// the unoccluded F(x -> j), set to 1 within 5% of 1 (the rule's own error, not occlusion). Both
+// are evaluated at the 15 nodes of a 4 x 4 lattice on each patch (pulled 1e-3 towards the
+// centroid, so a node on a crease sees the neighbour's limit) and interpolated linearly per
+// sample: the image is exact at the nodes and has no per-sample cost beyond the interpolation.
+// The far part fills the rest of the hemisphere, 1 - Omega(x), with the patch's mean far
+// radiosity: with N_i and Omega_i the means of the interpolants over i,
+//     Far(x) = (1 - Omega(x)) (G_i - D_i - N_i) / (1 - Omega_i),
+// so a point in a crease, where the neighbour covers half the hemisphere, trades far light for
+// near light instead of adding it. The image is, per sample (S the smooth image of
+// S_i = E_i + M_i (G_i - D_i - N_i) / (1 - Omega_i)):
+//     S(x) + [M_i H(x) + M_i Near(x)] / pi - Omega(x) (S(x) - E_i / pi),
+// whose patch mean is B_i / pi (light moved within patches, none added but the buried parts'
+// below). In a closed room of uniform E and rho it is B = E / (1 - rho) at every point; where
+// no near patch is in view it is the direct gather's image. Patches partly buried under an
+// object (patch_exposure.h) take their exposed part's values: (B_j - E_j) / phi_j as a
+// neighbour, means over the exposed children of the lattice, the smooth value over phi_i, and
+// each receiver gets the light the hidden fractions took from it, sum_j F_ij (B_j - E_j)
+// (1 / phi_j - 1) (one bounce); phi is floored at 1/4 for these divisions. Deterministic: no
+// random numbers. The emitters' own E is never gathered (the direct gather's), and B_j - E_j
+// carries what reached j directly.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "backend/embree_ray_caster.h"
+#include "geometry/patch_mesh.h"
+#include "image/patch_exposure.h"
+#include "radiosity/radiosity_system.h"
+#include "radiosity/sparse_matrix.h"
+#include "shared/gpu_types.h"
+
+namespace daisy {
+
+struct NearFieldSettings {
+    // R in patch sizes (the median longest patch edge); 0 = no near field, only the buried
+    // parts (patch_exposure.h).
+    double radius = 2;
+    // Most neighbours a receiving patch keeps (the nearest by centroid distance), so a scene of
+    // a few large triangles does not gather every patch at every lattice node.
+    int maxNeighbours = 256;
+};
+
+class NearField {
+public:
+    // Per receiving patch: Near and Omega at its 15 lattice nodes over the patches j with
+    // F_ij > 0 that can lie within R of it, their means N_i and Omega_i over its exposed
+    // children, and the light its hidden-fraction neighbours took. `radiosity`: the solved B
+    // (n x m, the system's layout). Parallel over patches (the caller's TBB arena);
+    // deterministic.
+    static NearField build(const PatchMesh& patches, const RadiositySystem& system,
+                           const SparseMatrix& formFactors, std::span<const double> radiosity,
+                           const PatchExposure& exposure, const NearFieldSettings& settings);
+
+    // From the direct gather's smooth part b = B - M D (n x m), in place: S_i above (b_i for
+    // patches without near neighbours).
+    void toFarRadiosity(const RadiositySystem& system, std::span<double> b) const;
+
+    // Keeps the smooth image's corner values (vertex_radiance.h's layout) and each patch's
+    // emission E_i / pi in the same `channels` (final_gather.h's radiosityChannels), which
+    // removeCovered reads.
+    void setSmoothImage(std::vector<float> corners, std::vector<float> emission, int channels);
+
+    // Adds Near(x) (m values, W m^-2 nm^-1 of irradiance) at the point of patch `patch` with
+    // Embree's barycentrics (u weights corner 1, v corner 2), and returns Omega(x). Thread-safe.
+    double addIrradiance(uint32_t patch, float u, float v, std::span<double> irradiance) const;
+
+    // values[c] -= omega (S(hit) - E_i / pi)[c] for the first values.size() channels (no
+    // coverage). Precondition: setSmoothImage was called.
+    void removeCovered(const SurfaceHit& hit, double omega, std::span<double> values) const;
+
+    bool empty() const { return nodes_.empty(); }
+    std::size_t pairCount() const { return pairCount_; }
+    std::size_t patchesWithNeighbours() const {
+        return nodes_.size() / (15 * (wavelengthCount_ + 1));
+    }
+    double radius() const { return radius_; }
+
+private:
+    static constexpr uint32_t kNoNodes = 0xffffffffu;
+    double windowWeight(double distance) const;
+
+    std::size_t wavelengthCount_ = 0;
+    double radius_ = 0;  // R, scene units
+    std::size_t pairCount_ = 0;
+    // Per patch: its first node's index in nodes_ (15 nodes), or kNoNodes.
+    std::vector<uint32_t> firstNode_;
+    std::vector<float> nodes_;  // per node: Near (m values), then Omega
+    std::vector<double> patchMeans_;  // N over the exposed lattice, n x m
+    std::vector<double> coverage_;  // Omega_i, per patch
+    std::vector<double> hiddenGain_;  // sum_j F_ij (1 - phi_j) (B_j - E_j) / phi_j, n x m
+    std::vector<float> exposed_;  // phi per patch
+    int channels_ = 0;
+    std::vector<float> corners_;  // S per corner
+    std::vector<float> emission_;  // E / pi per patch
+};
+
+}  // namespace daisy

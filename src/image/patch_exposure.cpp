@@ -1,0 +1,118 @@
+#include "image/patch_exposure.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+
+#include "backend/embree_ray_caster.h"
+#include "core/check.h"
+#include "shared/sampling.h"
+
+namespace daisy {
+
+namespace {
+
+constexpr int kDivisions = 4;  // 4 x 4 = 16 children
+constexpr int kProbeRays = 5;
+
+// Barycentric weights of corners b and c of the 16 children's centroids: (a, b) on the grid of
+// upward children (a + b <= 3), each followed by the downward one beside it (a + b <= 2).
+constexpr std::array<std::array<float, 2>, kPatchQuadraturePoints> kBarycentrics = [] {
+    std::array<std::array<float, 2>, kPatchQuadraturePoints> points{};
+    int q = 0;
+    for (int a = 0; a < kDivisions; ++a) {
+        for (int b = 0; a + b < kDivisions; ++b) {
+            points[std::size_t(q++)] = {(a + 1.0f / 3) / kDivisions, (b + 1.0f / 3) / kDivisions};
+            if (a + b < kDivisions - 1) {
+                points[std::size_t(q++)] = {(a + 2.0f / 3) / kDivisions,
+                                            (b + 2.0f / 3) / kDivisions};
+            }
+        }
+    }
+    return points;
+}();
+
+shared::vec3 toVec3(const Vec3d& v) {
+    return {float(v.x), float(v.y), float(v.z)};
+}
+
+}  // namespace
+
+shared::vec3 patchQuadraturePoint(const shared::PatchGeometry& t, int q) {
+    const auto [u, v] = kBarycentrics[std::size_t(q)];
+    return t.a * (1 - u - v) + t.b * u + t.c * v;
+}
+
+Expected<PatchExposure> patchExposure(const PatchMesh& patches) {
+    const std::size_t n = patches.patchCount();
+    PatchExposure exposure;
+    exposure.fraction.assign(n, 1.0f);
+    exposure.exposedPoints.assign(n, uint16_t(0xffff));
+    if (n == 0) return exposure;
+    auto caster = EmbreeRayCaster::create(patches, PacketMode::Packet16, /*robust=*/true);
+    if (!caster) return withContext(caster.error(), "patch exposure");
+    const EmbreeRayCaster& tracer = **caster;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const auto& range) {
+        std::array<Ray, kPatchQuadraturePoints * kProbeRays> rays{};
+        std::array<SurfaceHit, kPatchQuadraturePoints * kProbeRays> hits{};
+        for (std::size_t p = range.begin(); p != range.end(); ++p) {
+            const auto& c = patches.patches[p];
+            const shared::PatchGeometry t = shared::makePatchGeometry(
+                toVec3(patches.positions[c[0]]), toVec3(patches.positions[c[1]]),
+                toVec3(patches.positions[c[2]]));
+            const shared::vec3 n0 = toVec3(patches.normals[p]);
+            shared::vec3 t1, t2;
+            shared::orthonormalBasis(n0, t1, t2);
+            const float h = std::sqrt(0.5f);  // cos and sin of 45 degrees
+            const std::array<shared::vec3, kProbeRays> directions = {
+                n0, n0 * h + t1 * h, n0 * h - t1 * h, n0 * h + t2 * h, n0 * h - t2 * h};
+            for (int q = 0; q < kPatchQuadraturePoints; ++q) {
+                const shared::vec3 x = patchQuadraturePoint(t, q);
+                for (int r = 0; r < kProbeRays; ++r) {
+                    Ray& ray = rays[std::size_t(q * kProbeRays + r)];
+                    const shared::vec3 d = directions[std::size_t(r)];
+                    ray = {{x.x, x.y, x.z}, {d.x, d.y, d.z}};
+                }
+            }
+            // Past the patch's own plane by a millionth of its size (its own triangle and its
+            // coplanar neighbours are never hit).
+            const float margin = 1e-6f * std::sqrt(std::max(t.area, 1e-30f)) +
+                1e-6f * std::max({std::abs(t.a.x), std::abs(t.a.y), std::abs(t.a.z)});
+            tracer.closestSurfaceHits(rays, hits, margin);
+            uint16_t mask = 0;
+            for (int q = 0; q < kPatchQuadraturePoints; ++q) {
+                bool buried = true;
+                for (int r = 0; r < kProbeRays && buried; ++r) {
+                    const std::size_t k = std::size_t(q * kProbeRays + r);
+                    const uint32_t hit = hits[k].patch;
+                    // Open (a miss), a front face, or a double-sided surface: exposed.
+                    if (hit == kNoPatch || patches.backPatch[hit] != kNoBackPatch) {
+                        buried = false;
+                        break;
+                    }
+                    const Vec3d& m = patches.normals[hit];
+                    const shared::vec3 d = directions[std::size_t(r)];
+                    buried = m.x * d.x + m.y * d.y + m.z * d.z > 0;
+                }
+                if (!buried) mask = uint16_t(mask | (1u << q));
+            }
+            exposure.exposedPoints[p] = mask;
+            exposure.fraction[p] = float(std::popcount(unsigned(mask))) / kPatchQuadraturePoints;
+        }
+    });
+    return exposure;
+}
+
+std::vector<double> exposedAreas(const PatchMesh& patches, const PatchExposure& exposure) {
+    DAISY_CHECK(exposure.fraction.size() == patches.patchCount());
+    std::vector<double> areas(patches.patchCount());
+    for (std::size_t p = 0; p < areas.size(); ++p)
+        areas[p] = patches.areas[p] * exposure.fraction[p];
+    return areas;
+}
+
+}  // namespace daisy

@@ -1,0 +1,41 @@
+#pragma once
+// Exposed parts of patches (issue 16, session 3; docs/rendering.md). A floor subdivided without
+// regard to the blocks standing on it has patches that run under a block: their buried part
+// sees only the inside of the block, so F_ij from its points is 0 (blocked), and the solution
+// spreads the exposed part's gathered light over the whole patch: B_i - E_i is the exposed
+// part's value times its fraction phi_i. Neighbours then see that strip at phi_i times its
+// brightness (F_ji counts only the exposed part, and B_i is already scaled), and the smooth
+// image averages the fully buried patches' black into the vertices along the block's base.
+//
+// A point counts as buried when all five probe rays from it (along the patch normal and four
+// tilted 45 degrees from it) hit the back of a single-sided surface: it is inside a closed
+// object. phi_i is the exposed share of the 16 equal-area points patchQuadraturePoint gives.
+#include <cstdint>
+#include <vector>
+
+#include "core/expected.h"
+#include "geometry/patch_mesh.h"
+#include "shared/gpu_types.h"
+
+namespace daisy {
+
+inline constexpr int kPatchQuadraturePoints = 16;
+
+// Point q (0..15) of the equal-area rule on triangle (a, b, c): the centroid of child q of its
+// level-2 midpoint subdivision.
+shared::vec3 patchQuadraturePoint(const shared::PatchGeometry& t, int q);
+
+struct PatchExposure {
+    std::vector<float> fraction;  // phi per patch, in [0, 1]
+    std::vector<uint16_t> exposedPoints;  // per patch: bit q set when point q is exposed
+};
+
+// Probes every patch's 16 points (80 rays a patch, Embree, parallel). Fails (no crash) when
+// Embree cannot build the scene.
+Expected<PatchExposure> patchExposure(const PatchMesh& patches);
+
+// Per patch, its area times phi: the area weights of the smooth image's vertex means
+// (vertex_radiance.h), so fully buried patches do not darken the exposed ones at a shared vertex.
+std::vector<double> exposedAreas(const PatchMesh& patches, const PatchExposure& exposure);
+
+}  // namespace daisy
