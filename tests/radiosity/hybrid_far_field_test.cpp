@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -89,10 +89,11 @@ TEST(HybridFarField, BatchOfPairsIsBitIdenticalToTheSharedKernel) {
         candidateFactorsCpu(DAISY_METHOD_HYBRID, level, geometry, pairs, got, scratch);
         int positive = 0;
         for (std::size_t k = 0; k < pairs.size(); ++k) {
-            const float want = std::max(
-                0.0f, shared::pairFactors(DAISY_METHOD_HYBRID, level, geometry[pairs[k].i],
-                                          geometry[pairs[k].j])
-                          .fij);
+            const float want =
+                std::max(0.0f,
+                         shared::pairFactors(DAISY_METHOD_HYBRID, level, geometry[pairs[k].i],
+                                             geometry[pairs[k].j])
+                             .fij);
             ASSERT_EQ(got[k], want) << "pair " << k << " level " << level;
             positive += want > 0.0f ? 1 : 0;
         }
@@ -108,15 +109,15 @@ TEST(HybridFarField, FarRootIsOneCellAtEveryLevel) {
     const float h = 2.0f;  // distance of the square (side 1, two triangles) above i
     const PatchGeometry i = shared::makePatchGeometry(vec3(-0.05f, -0.05f, 0.0f),
                                                       vec3(0.05f, -0.05f, 0.0f), vec3(0, 0.05f, 0));
-    const PatchGeometry j0 = shared::makePatchGeometry(vec3(-0.5f, -0.5f, h), vec3(0.5f, 0.5f, h),
-                                                       vec3(0.5f, -0.5f, h));
-    const PatchGeometry j1 = shared::makePatchGeometry(vec3(-0.5f, -0.5f, h),
-                                                       vec3(-0.5f, 0.5f, h), vec3(0.5f, 0.5f, h));
+    const PatchGeometry j0 =
+        shared::makePatchGeometry(vec3(-0.5f, -0.5f, h), vec3(0.5f, 0.5f, h), vec3(0.5f, -0.5f, h));
+    const PatchGeometry j1 =
+        shared::makePatchGeometry(vec3(-0.5f, -0.5f, h), vec3(-0.5f, 0.5f, h), vec3(0.5f, 0.5f, h));
     const float f1 = pairFactorsCpu(DAISY_METHOD_HYBRID, 1, i, j0).fij +
-                     pairFactorsCpu(DAISY_METHOD_HYBRID, 1, i, j1).fij;
+        pairFactorsCpu(DAISY_METHOD_HYBRID, 1, i, j1).fij;
     for (int level : {0, 2, 3}) {
         const float f = pairFactorsCpu(DAISY_METHOD_HYBRID, level, i, j0).fij +
-                        pairFactorsCpu(DAISY_METHOD_HYBRID, level, i, j1).fij;
+            pairFactorsCpu(DAISY_METHOD_HYBRID, level, i, j1).fij;
         EXPECT_EQ(f, f1) << level;
     }
     // Howell B-3 at the square's centre: F = (2/pi) [a/sqrt(1+a^2) atan(b/sqrt(1+a^2)) + (same
