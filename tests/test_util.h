@@ -2,6 +2,7 @@
 // Helpers shared by the tests: a fresh temporary directory per test and small file writers.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
@@ -47,8 +48,11 @@ inline std::filesystem::path testCacheHome() {
     const auto* unit = ::testing::UnitTest::GetInstance();
     const auto* info = unit->current_test_info();  // null in SetUpTestSuite
     const auto* suite = unit->current_test_suite();
-    std::string name = info ? std::string(info->test_suite_name()) + "." + info->name()
-                            : std::string(suite ? suite->name() : "global") + ".SetUp";
+    // A suite's set-up runs once in each process that runs one of its tests (ctest -j runs them
+    // at once), so its folder is the process's own.
+    std::string name = info
+        ? std::string(info->test_suite_name()) + "." + info->name()
+        : std::string(suite ? suite->name() : "global") + ".SetUp-" + std::to_string(::getpid());
     for (char& c : name) {
         if (c == '/') c = '_';
     }
