@@ -51,6 +51,16 @@ void addRoom(TriangleMesh& mesh, Vec3d origin, Vec3d size, int n) {
     addRoomFaces(mesh, origin, size, n, {0, 1, 2, 3, 4, 5});
 }
 
+Material flatMaterial(const std::string& name, double reflectance, double emission) {
+    Material m;
+    m.name = name;
+    m.spectral.reflectance =
+        SpectrumSpec{TabulatedSpectrum{{300, 900}, {reflectance, reflectance}}};
+    if (emission > 0)
+        m.spectral.emission = SpectrumSpec{TabulatedSpectrum{{300, 900}, {emission, emission}}};
+    return m;
+}
+
 Scene unitRoomScene(int n, const std::string& emission, const Material& base) {
     Scene scene;
     scene.path = "room";

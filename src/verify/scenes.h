@@ -28,6 +28,10 @@ void addQuad(TriangleMesh& mesh, Vec3d p0, Vec3d p1, Vec3d p2, Vec3d p3, uint32_
 // material f.
 void addRoom(TriangleMesh& mesh, Vec3d origin, Vec3d size, int n);
 
+// A material of flat spectra over 300..900 nm: reflectance `reflectance`, and emission
+// `emission` (W m^-2 nm^-1) when positive. Named `name`.
+Material flatMaterial(const std::string& name, double reflectance, double emission);
+
 // The unit room of addRoom(n) as a Scene at path "room": material f is `base` named "face<f>"
 // (origin "room: material <f>"), and face 1 (the ceiling) emits the preset spectrum `emission`
 // at scale 1.

@@ -20,16 +20,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-Material flatMaterial(double reflectance, double emission) {
-    Material m;
-    m.name = "flat";
-    m.spectral.reflectance =
-        SpectrumSpec{TabulatedSpectrum{{300, 900}, {reflectance, reflectance}}};
-    if (emission > 0)
-        m.spectral.emission = SpectrumSpec{TabulatedSpectrum{{300, 900}, {emission, emission}}};
-    return m;
-}
-
 Camera lookAt(Vec3d from, Vec3d to, double yFovRad) {
     Camera camera;
     camera.name = "test";
@@ -113,7 +103,7 @@ Scene furnaceScene(const Material& material) {
 }
 
 TEST(PathTracer, WhiteFurnaceIsEOverOneMinusRho) {
-    const Scene scene = furnaceScene(flatMaterial(0.6, 1.0));
+    const Scene scene = furnaceScene(verify::flatMaterial("flat", 0.6, 1.0));
     auto set = WavelengthSet::fromWavelengths({450, 550, 650}, "three");
     ASSERT_TRUE(set.ok());
     expectFurnace(scene, *set, 0.02);
@@ -122,7 +112,7 @@ TEST(PathTracer, WhiteFurnaceIsEOverOneMinusRho) {
 }
 
 TEST(PathTracer, FluorescentFurnaceIsInverseOfIMinusM) {
-    Material material = flatMaterial(0.3, 1.0);
+    Material material = verify::flatMaterial("flat", 0.3, 1.0);
     material.spectral.fluorescence = FluorescenceSpec{FluorophorePreset{"fluorescein"}};
     const Scene scene = furnaceScene(material);
     auto set = WavelengthSet::fromWavelengths(
@@ -146,7 +136,7 @@ TEST(PathTracer, LitPlaneMatchesPointToPolygonIrradiance) {
     const std::vector<Vec3d> square = {
         {-0.5, 1, -0.5}, {0.5, 1, -0.5}, {0.5, 1, 0.5}, {-0.5, 1, 0.5}};
     verify::addQuad(scene.mesh, square[0], square[1], square[2], square[3], 1);
-    scene.materials = {flatMaterial(0.5, 0), flatMaterial(0, 1)};
+    scene.materials = {verify::flatMaterial("flat", 0.5, 0), verify::flatMaterial("flat", 0, 1)};
     auto set = WavelengthSet::fromWavelengths({550}, "one");
     ASSERT_TRUE(set.ok());
     PathTraceSettings settings;
@@ -180,7 +170,7 @@ TEST(PathTracer, DeterministicSeedsAndNoiseFallsAsOneOverRootN) {
     scene.path = "lit plane";
     verify::addQuad(scene.mesh, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, {-10, 0, -10}, 0);
     verify::addQuad(scene.mesh, {-0.5, 1, -0.5}, {0.5, 1, -0.5}, {0.5, 1, 0.5}, {-0.5, 1, 0.5}, 1);
-    scene.materials = {flatMaterial(0.5, 0), flatMaterial(0, 1)};
+    scene.materials = {verify::flatMaterial("flat", 0.5, 0), verify::flatMaterial("flat", 0, 1)};
     auto set = WavelengthSet::fromWavelengths({550}, "one");
     ASSERT_TRUE(set.ok());
     PathTraceSettings settings;
@@ -206,7 +196,7 @@ TEST(PathTracer, DeterministicSeedsAndNoiseFallsAsOneOverRootN) {
 }
 
 TEST(PathTracer, RefusesBadSettings) {
-    const Scene scene = furnaceScene(flatMaterial(0.5, 1.0));
+    const Scene scene = furnaceScene(verify::flatMaterial("flat", 0.5, 1.0));
     PathTraceSettings settings;
     settings.width = 0;
     auto r =

@@ -26,13 +26,7 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 Material flat(double reflectance, double emission) {
-    Material m;
-    m.name = emission > 0 ? "source" : "receiver";
-    m.spectral.reflectance =
-        SpectrumSpec{TabulatedSpectrum{{300, 900}, {reflectance, reflectance}}};
-    if (emission > 0)
-        m.spectral.emission = SpectrumSpec{TabulatedSpectrum{{300, 900}, {emission, emission}}};
-    return m;
+    return verify::flatMaterial(emission > 0 ? "source" : "receiver", reflectance, emission);
 }
 
 struct Plates {

@@ -29,16 +29,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-Material flat(double reflectance, double emission) {
-    Material m;
-    m.name = "flat";
-    m.spectral.reflectance =
-        SpectrumSpec{TabulatedSpectrum{{300, 900}, {reflectance, reflectance}}};
-    if (emission > 0)
-        m.spectral.emission = SpectrumSpec{TabulatedSpectrum{{300, 900}, {emission, emission}}};
-    return m;
-}
-
 Session solvedSession(Scene scene, double maxEdge) {
     SessionSettings settings;
     settings.subdivideMaxEdge = maxEdge;
@@ -77,7 +67,7 @@ TEST(NearFieldGather, ConcaveCornerMatchesThePointToPolygonClosedForm) {
     Scene scene;
     scene.path = "corner";
     scene.mesh = verify::perpendicularSquares(4);  // floor z = 0 (+z), wall x = 0 (+x)
-    scene.materials = {flat(0.5, 0)};
+    scene.materials = {verify::flatMaterial("flat", 0.5, 0)};
     Session session = solvedSession(std::move(scene), 0);
     const PatchMesh& patches = session.patches();
     const std::size_t n = patches.patchCount();
@@ -135,7 +125,7 @@ TEST(NearFieldGather, WhiteFurnaceIsUniformWithTheNearFieldOn) {
     Scene scene;
     scene.path = "furnace";
     scene.mesh = verify::unitCubeRoom(3);
-    scene.materials = {flat(0.5, 1)};
+    scene.materials = {verify::flatMaterial("flat", 0.5, 1)};
     Session session = solvedSession(std::move(scene), 0);
     Camera camera;
     camera.name = "corner";
@@ -185,7 +175,7 @@ TEST(NearFieldGather, BoxOnTheFurnaceFloorLosesItsDarkBand) {
     scene.path = "furnace-box";
     scene.mesh = verify::unitCubeRoom(8);
     verify::addSolidBox(scene.mesh, {0.35, 0.35, 0}, {0.3, 0.3, 0.3});
-    scene.materials = {flat(0.5, 1)};
+    scene.materials = {verify::flatMaterial("flat", 0.5, 1)};
     Session session = solvedSession(std::move(scene), 0);
     Camera camera;
     camera.name = "base";
