@@ -33,7 +33,7 @@
 namespace daisy {
 
 inline constexpr uint32_t kMaxClusterSize = 32;
-inline constexpr uint32_t kMaxScatteredClusterSize = 512;
+inline constexpr uint32_t kMaxScatteredClusterSize = 256;
 inline constexpr int kMaxOutlineVertices = kMaxPolygonVertices;
 inline constexpr uint32_t kNoFace = 0xffffffffu;
 
