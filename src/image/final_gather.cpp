@@ -353,16 +353,9 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                         for (std::size_t w = 0; w < m; ++w)
                             irradiance[w] += light.emission[w] * scale;
                     }
-                    for (std::size_t o = 0; o < m; ++o) {
-                        double v = 0;
-                        if (op.isDiagonal) {
-                            v = op.diagonal[o] * irradiance[o];
-                        } else {
-                            for (std::size_t w = 0; w <= o; ++w)
-                                v += op.matrix(o, w) * irradiance[w];
-                        }
-                        reflected[o] = v / kPi;
-                    }
+                    applyOperator(op, irradiance.data(), reflected.data());
+                    for (double& v : reflected)
+                        v /= kPi;
                     if (spectral)
                         std::copy(reflected.begin(), reflected.end(), sampleValues.begin());
                     const Xyz xyz = set.toXyz(reflected);

@@ -220,7 +220,7 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
 void NearField::toFarRadiosity(const RadiositySystem& system, std::span<double> b) const {
     const std::size_t m = wavelengthCount_, n = exposed_.size();
     DAISY_CHECK(b.size() == n * m);
-    std::vector<double> indirect(m), mean(m);
+    std::vector<double> indirect(m), mean(m), reradiated(m);
     for (std::size_t i = 0; i < n; ++i) {
         const MaterialOperator& op = system.operators[system.patchOperator[i]];
         const double phi = exposed_[i];
@@ -232,16 +232,9 @@ void NearField::toFarRadiosity(const RadiositySystem& system, std::span<double> 
         const double* near = patchMeans_.data() + i * m;
         for (std::size_t k = 0; k < m; ++k)
             mean[k] = gain[k] - phi * near[k];
-        for (std::size_t o = 0; o < m; ++o) {
-            double v = 0;
-            if (op.isDiagonal) {
-                v = op.diagonal[o] * mean[o];
-            } else {
-                for (std::size_t k = 0; k <= o; ++k)
-                    v += op.matrix(o, k) * mean[k];
-            }
-            indirect[o] = (b[i * m + o] - e[o] + v) / phi;
-        }
+        applyOperator(op, mean.data(), reradiated.data());
+        for (std::size_t o = 0; o < m; ++o)
+            indirect[o] = (b[i * m + o] - e[o] + reradiated[o]) / phi;
         const double spread = 1 / std::max(1 - coverage_[i], kMinFarShare);
         for (std::size_t o = 0; o < m; ++o)
             b[i * m + o] = e[o] + indirect[o] * spread;

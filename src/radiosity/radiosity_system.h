@@ -59,6 +59,10 @@ Expected<RadiositySystem> buildRadiositySystem(const Scene& scene, const PatchMe
 // matrix and the set's bin widths; for systems assembled by hand (tests, benchmarks).
 void finishOperator(MaterialOperator& op, const std::vector<double>& binWidthsNm);
 
+// out = M in for one operator (m-vectors): diagonal[o] in[o], or the lower-triangular sum
+// over k <= o of M[o][k] in[k] (re-radiation only moves light to longer wavelengths).
+void applyOperator(const MaterialOperator& op, const double* in, double* out);
+
 // The two scene facts the `auto` wavelength set depends on (wavelength_set.h): some material
 // (or punctual light with a spectrum) emits mostly UV, and some material is fluorescent.
 struct SceneSpectralFacts {

@@ -9,14 +9,11 @@
 #include <memory>
 #include <new>
 
-#ifdef __linux__
-#include <sys/mman.h>
-#endif
-
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "core/memory.h"
 #include "core/strings.h"
 #include "core/timer.h"
 #include "radiosity/gather_kernels.h"
@@ -331,9 +328,7 @@ Expected<SolverResult> Solver::run() {
             return Error{concat("out of memory: the solver's float copy of B needs ",
                                 formatBytes(double(bytes)))};
         }
-#ifdef __linux__
-        madvise(mirrorStorage_.get(), bytes, MADV_HUGEPAGE);  // a hint; fine if refused
-#endif
+        adviseHugePages(mirrorStorage_.get(), bytes);
         mirror_ = mirrorStorage_.get();
         refreshMirror(0, n);
     }

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "geometry/patch_mesh.h"
+#include "image/origin_camera.h"
 #include "pathtrace/path_tracer.h"
 #include "radiosity/radiosity_system.h"
 #include "verify/closed_forms.h"
@@ -21,16 +22,8 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 Camera lookAt(Vec3d from, Vec3d to, double yFovRad) {
-    Camera camera;
-    camera.name = "test";
-    camera.position = from;
-    camera.forward = normalize(to - from);
-    const Vec3d side = normalize(cross(camera.forward, Vec3d{0, 1, 0}));
-    camera.up = cross(side, camera.forward);
-    camera.yFovRad = yFovRad;
-    return camera;
+    return test::lookAtCamera("test", from, to, {0, 1, 0}, yFovRad);
 }
-
 struct ImageMean {
     std::vector<double> channels;  // mean of each channel over the image
     double standardErrorY = 0;  // of the mean Y, from the per-pixel variances

@@ -14,11 +14,13 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "image/camera.h"
 #include "image/near_field.h"
+#include "image/origin_camera.h"
 #include "image/radiosity_image.h"
 #include "pipeline/session.h"
 #include "verify/closed_forms.h"
@@ -127,13 +129,7 @@ TEST(NearFieldGather, WhiteFurnaceIsUniformWithTheNearFieldOn) {
     scene.mesh = verify::unitCubeRoom(3);
     scene.materials = {verify::flatMaterial("flat", 0.5, 1)};
     Session session = solvedSession(std::move(scene), 0);
-    Camera camera;
-    camera.name = "corner";
-    camera.position = {0.8, 0.75, 0.7};
-    camera.forward = normalize(Vec3d{0, 0, 0} - camera.position);
-    const Vec3d side = normalize(cross(camera.forward, Vec3d{0, 0, 1}));
-    camera.up = cross(side, camera.forward);
-    camera.yFovRad = 1.2;
+    const Camera camera = test::lookAtCamera("corner", {0.8, 0.75, 0.7}, {0, 0, 0}, {0, 0, 1}, 1.2);
     RenderSettings settings;
     settings.width = 40;
     settings.height = 30;
@@ -177,13 +173,8 @@ TEST(NearFieldGather, BoxOnTheFurnaceFloorLosesItsDarkBand) {
     verify::addSolidBox(scene.mesh, {0.35, 0.35, 0}, {0.3, 0.3, 0.3});
     scene.materials = {verify::flatMaterial("flat", 0.5, 1)};
     Session session = solvedSession(std::move(scene), 0);
-    Camera camera;
-    camera.name = "base";
-    camera.position = {0.5, 0.02, 0.45};
-    camera.forward = normalize(Vec3d{0.5, 0.35, 0.05} - camera.position);
-    const Vec3d side = normalize(cross(camera.forward, Vec3d{0, 0, 1}));
-    camera.up = cross(side, camera.forward);
-    camera.yFovRad = 0.9;
+    const Camera camera =
+        test::lookAtCamera("base", {0.5, 0.02, 0.45}, {0.5, 0.35, 0.05}, {0, 0, 1}, 0.9);
     RenderSettings settings;
     settings.width = 48;
     settings.height = 36;
