@@ -4,6 +4,10 @@
 // writing "5" to /proc/self/clear_refs (Linux 4.0+, proc(5)). Elsewhere both report 0.
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace daisy {
@@ -22,9 +26,37 @@ bool resetPeakResidentBytes();
 // seconds of page faults without it.
 void adviseHugePages(void* data, std::size_t bytes);
 
-// v.resize(count) on storage advised with adviseHugePages first (when v must grow).
+// std::allocator whose construct() without arguments default-initialises: resize() of a vector
+// of trivial elements leaves the new ones unset instead of zeroing them. For arrays of hundreds
+// of MB whose every element is written before it is read (F's CSR arrays): zeroing them first
+// costs a serial pass over fresh pages, which on a virtual machine is mostly page faults.
 template <typename T>
-void resizeOnHugePages(std::vector<T>& v, std::size_t count) {
+struct DefaultInitAllocator : std::allocator<T> {
+    template <typename U>
+    struct rebind {
+        using other = DefaultInitAllocator<U>;
+    };
+    DefaultInitAllocator() = default;
+    template <typename U>
+    DefaultInitAllocator(const DefaultInitAllocator<U>&) noexcept {}
+
+    template <typename U>
+    void construct(U* p) noexcept(std::is_nothrow_default_constructible_v<U>) {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <typename U, typename... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
+
+// A vector whose resize() does not initialise trivial elements (see DefaultInitAllocator).
+template <typename T>
+using UninitializedVector = std::vector<T, DefaultInitAllocator<T>>;
+
+// v.resize(count) on storage advised with adviseHugePages first (when v must grow).
+template <typename T, typename Allocator>
+void resizeOnHugePages(std::vector<T, Allocator>& v, std::size_t count) {
     if (count > v.capacity()) {
         v.reserve(count);
         adviseHugePages(v.data(), v.capacity() * sizeof(T));

@@ -34,8 +34,8 @@ std::span<const std::byte> bytesOf(const T& value) {
     return std::as_bytes(std::span<const T, 1>(&value, 1));
 }
 
-template <typename T>
-std::span<const std::byte> bytesOf(const std::vector<T>& values) {
+template <typename T, typename Allocator>
+std::span<const std::byte> bytesOf(const std::vector<T, Allocator>& values) {
     return std::as_bytes(std::span<const T>(values));
 }
 
@@ -165,8 +165,8 @@ bool readExactly(std::FILE* file, void* data, std::size_t bytes) {
     return bytes == 0 || std::fread(data, 1, bytes, file) == bytes;
 }
 
-template <typename T>
-bool readArray(std::FILE* file, std::vector<T>& values, uint64_t count) {
+template <typename T, typename Allocator>
+bool readArray(std::FILE* file, std::vector<T, Allocator>& values, uint64_t count) {
     values.resize(count);
     return readExactly(file, values.data(), count * sizeof(T));
 }

@@ -70,8 +70,8 @@ namespace {
 // Gives the whole pages beyond a vector's size back to the operating system without moving the
 // data (Linux: madvise MADV_DONTNEED; the pages read as zeros if touched again). shrink_to_fit
 // would copy, briefly holding both arrays: that copy was the build's peak memory and ~0.1 s.
-template <typename T>
-void releaseUnusedCapacity(std::vector<T>& v) {
+template <typename T, typename Allocator>
+void releaseUnusedCapacity(std::vector<T, Allocator>& v) {
 #if defined(__linux__)
     const auto page = static_cast<uintptr_t>(sysconf(_SC_PAGESIZE));
     const auto begin = reinterpret_cast<uintptr_t>(v.data() + v.size());

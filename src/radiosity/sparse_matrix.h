@@ -7,13 +7,17 @@
 #include <string>
 #include <vector>
 
+#include "core/memory.h"
+
 namespace daisy {
 
 struct SparseMatrix {
     uint32_t size = 0;  // rows = columns = patch count
     std::vector<uint64_t> rowOffsets;  // size + 1; row i is [rowOffsets[i], rowOffsets[i + 1])
-    std::vector<uint32_t> columns;  // per stored entry, ascending within a row
-    std::vector<float> values;  // per stored entry
+    // Per stored entry: columns ascending within a row, and values. resize() leaves new entries
+    // unset (UninitializedVector): whoever grows them writes every one.
+    UninitializedVector<uint32_t> columns;
+    UninitializedVector<float> values;
 
     // An all-zero n x n matrix (offsets only).
     static SparseMatrix zeros(uint32_t n);

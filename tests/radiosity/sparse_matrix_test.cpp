@@ -47,7 +47,7 @@ TEST(SparseMatrix, LookupSumsAndStructure) {
 TEST(SparseMatrix, TransposeAndDropZeros) {
     const SparseMatrix t = transpose(smallMatrix());
     EXPECT_EQ(t.rowOffsets, (std::vector<uint64_t>{0, 1, 2, 3}));
-    EXPECT_EQ(t.columns, (std::vector<uint32_t>{1, 0, 1}));
+    EXPECT_EQ(t.columns, (UninitializedVector<uint32_t>{1, 0, 1}));
     EXPECT_EQ(t.at(2, 1), 0.125f);
 
     SparseMatrix m = smallMatrix();
@@ -55,7 +55,7 @@ TEST(SparseMatrix, TransposeAndDropZeros) {
     dropZeros(m);
     EXPECT_EQ(validateStructure(m), "");
     EXPECT_EQ(m.rowOffsets, (std::vector<uint64_t>{0, 1, 2, 2}));
-    EXPECT_EQ(m.columns, (std::vector<uint32_t>{1, 2}));
+    EXPECT_EQ(m.columns, (UninitializedVector<uint32_t>{1, 2}));
 }
 
 TEST(SparseMatrix, StructureErrorsAreNamed) {
