@@ -85,27 +85,44 @@ bool Shaft::build(std::span<const Vec3d> p, std::span<const Vec3d> q, double tol
     // Planes through an edge (a, b) of one polygon and a vertex of the other. The polygon of the
     // edge lies on one side of any such plane (other than its own plane, added above): the side
     // of `inner`, its vertex before a (off the edge's line, as the outlines have no collinear
-    // vertices). So only the other polygon's vertices need checking.
+    // vertices). Turning a plane about the edge's line, the hull's faces through the edge are the
+    // planes through the apexes furthest round on either side of the edge polygon's plane, when
+    // no apex lies beyond them: one candidate a side (apex o is further round than c when it is
+    // strictly on the far side of c's plane from `inner`; the order is total within a side), then
+    // the check of the other apexes. O(m n) a polygon instead of O(m n^2).
     const auto edgeVertexPlanes = [&](std::span<const Vec3d> edges, std::span<const Vec3d> apexes) {
+        struct Candidate {
+            Vec3d n;
+            double inside = 0;
+            double len2 = 0;
+        };
         const std::size_t m = edges.size();
         for (std::size_t e = 0; e < m; ++e) {
             const Vec3d& a = edges[e];
             const Vec3d edge = edges[(e + 1) % m] - a;
             const Vec3d inner = edges[(e + m - 1) % m] - a;
-            for (std::size_t k = 0; k < apexes.size(); ++k) {
-                const Vec3d n = cross(edge, apexes[k] - a);
+            Candidate best[2];  // [0]: apexes with inside < 0, [1]: inside > 0
+            for (const Vec3d& apex : apexes) {
+                const Vec3d r = apex - a;
+                const Vec3d n = cross(edge, r);
                 const double len2 = dot(n, n);
-                const double limit2 = tolerance_ * tolerance_ * len2;
                 const double inside = dot(n, inner);
-                if (!(inside * inside > limit2)) continue;  // the edge polygon's own plane
+                // Skip planes that are the edge polygon's own (the apex lies on it).
+                if (!(inside * inside > tolerance_ * tolerance_ * len2)) continue;
+                Candidate& c = best[inside > 0 ? 1 : 0];
+                if (c.len2 == 0 || dot(c.n, r) * c.inside < 0) c = {n, inside, len2};
+            }
+            for (const Candidate& c : best) {
+                if (c.len2 == 0) continue;
+                const double limit2 = tolerance_ * tolerance_ * c.len2;
                 bool face = true;
                 for (std::size_t o = 0; o < apexes.size() && face; ++o) {
-                    const double d = dot(n, apexes[o] - a);
-                    face = !(d * inside < 0 && d * d > limit2);
+                    const double d = dot(c.n, apexes[o] - a);
+                    face = !(d * c.inside < 0 && d * d > limit2);
                 }
                 if (!face) continue;
-                const Vec3d outward = inside > 0 ? -n : n;
-                addFace(outward, std::sqrt(len2), dot(outward, a));
+                const Vec3d outward = c.inside > 0 ? -c.n : c.n;
+                addFace(outward, std::sqrt(c.len2), dot(outward, a));
             }
         }
     };

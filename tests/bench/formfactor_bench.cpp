@@ -6,6 +6,7 @@
 // Results and the commands are recorded in docs/performance.md.
 #include <benchmark/benchmark.h>
 
+#include <array>
 #include <memory>
 #include <random>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "backend/embree_ray_caster.h"
 #include "geometry/flat_bvh.h"
 #include "geometry/patch_mesh.h"
+#include "radiosity/shaft.h"
 #include "radiosity/visibility_samples.h"
 #include "scene/load_scene.h"
 #include "shared/formfactor.h"
@@ -123,6 +125,31 @@ void BM_VisibilitySamplePair(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_VisibilitySamplePair);
+
+// Shaft builds between the parallelograms spanned by facing triangles (4 + 4 corners, the most
+// common shaft of the pair loop: two-triangle nodes of tessellated faces), per shaft.
+void BM_ShaftBuild(benchmark::State& state) {
+    const BenchScene& s = benchScene();
+    const auto quad = [&](uint32_t p) {
+        const auto& t = s.mesh.patches[p];
+        const Vec3d& a = s.mesh.positions[t[0]];
+        const Vec3d& b = s.mesh.positions[t[1]];
+        const Vec3d& c = s.mesh.positions[t[2]];
+        return std::array<Vec3d, 4>{a, b, b + c - a, c};
+    };
+    std::vector<std::array<Vec3d, 4>> quads(s.mesh.patchCount());
+    for (uint32_t p = 0; p < quads.size(); ++p)
+        quads[p] = quad(p);
+    Shaft shaft;
+    std::size_t k = 0;
+    for (auto _ : state) {
+        const auto& [i, j] = s.facingPairs[k++ & 4095];
+        benchmark::DoNotOptimize(shaft.build(quads[i], quads[j], 1e-6));
+    }
+    state.counters["shafts/s"] =
+        benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_ShaftBuild);
 
 // Occlusion segments of 16 samples for each of 4096 random facing pairs (more of them blocked
 // than in the driver, which traces only pairs shaft culling could not settle), per packet mode.

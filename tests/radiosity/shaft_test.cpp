@@ -77,6 +77,95 @@ TEST(Shaft, SkewShaftOfTwoTriangles) {
     EXPECT_TRUE(shaft.excludesPolygon(tiny({3.0, 0.3, 1.2})));
 }
 
+// A convex polygon of n corners on a circle of radius r about c in the plane spanned by the unit
+// vectors u and v, at jittered angles (corners in order, none collinear).
+std::vector<Vec3d> randomPolygon(std::mt19937& rng, int n, Vec3d c, Vec3d u, Vec3d v, double r) {
+    std::uniform_real_distribution<double> jitter(0.1, 0.9);
+    std::vector<Vec3d> corners;
+    for (int k = 0; k < n; ++k) {
+        const double angle = 2 * M_PI * (k + jitter(rng)) / n;
+        corners.push_back(c + u * (r * std::cos(angle)) + v * (r * std::sin(angle)));
+    }
+    return corners;
+}
+
+// The shaft against the textbook hull: every plane through three of the points with all points
+// on one side is a facet of conv(P u Q) (brute force, O(n^4)). Random polygon pairs of 3 to 8
+// corners in random planes; at random points of the hull's box, a tiny triangle is excluded
+// when the point is outside the hull by a margin (the shaft found every facet) and kept when it
+// is inside by a margin (no plane cuts into the hull).
+TEST(Shaft, ExcludesExactlyWhatTheBruteForceHullExcludes) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> unit(-1, 1);
+    std::uniform_int_distribution<int> corners(3, 8);
+    const auto direction = [&] {
+        Vec3d d;
+        do {
+            d = {unit(rng), unit(rng), unit(rng)};
+        } while (length(d) < 0.2 || length(d) > 1);
+        return normalize(d);
+    };
+    int outside = 0, inside = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        std::vector<Vec3d> polygons[2];
+        for (std::vector<Vec3d>& polygon : polygons) {
+            const Vec3d n = direction();
+            const Vec3d u = normalize(cross(n, direction()));
+            const Vec3d centre{2 * unit(rng), 2 * unit(rng), 2 * unit(rng)};
+            polygon =
+                randomPolygon(rng, corners(rng), centre, u, cross(n, u), 0.6 + 0.4 * unit(rng));
+        }
+        Shaft shaft;
+        if (!shaft.build(polygons[0], polygons[1], 1e-9)) continue;
+        std::vector<Vec3d> points = polygons[0];
+        points.insert(points.end(), polygons[1].begin(), polygons[1].end());
+        struct Facet {
+            Vec3d n;  // unit, outward
+            double offset;
+        };
+        std::vector<Facet> facets;
+        for (std::size_t a = 0; a < points.size(); ++a) {
+            for (std::size_t b = a + 1; b < points.size(); ++b) {
+                for (std::size_t c = b + 1; c < points.size(); ++c) {
+                    const Vec3d n = cross(points[b] - points[a], points[c] - points[a]);
+                    if (length(n) < 1e-9) continue;
+                    const Vec3d unitN = normalize(n);
+                    double lo = 0, hi = 0;
+                    for (const Vec3d& x : points) {
+                        lo = std::min(lo, dot(unitN, x - points[a]));
+                        hi = std::max(hi, dot(unitN, x - points[a]));
+                    }
+                    if (hi <= 1e-9) facets.push_back({unitN, dot(unitN, points[a])});
+                    if (lo >= -1e-9) facets.push_back({-unitN, -dot(unitN, points[a])});
+                }
+            }
+        }
+        Bounds3d box;
+        for (const Vec3d& x : points)
+            box.extend(x);
+        std::uniform_real_distribution<double> s(0, 1);
+        for (int k = 0; k < 100; ++k) {
+            const Vec3d x{box.lo.x + s(rng) * (box.hi.x - box.lo.x),
+                          box.lo.y + s(rng) * (box.hi.y - box.lo.y),
+                          box.lo.z + s(rng) * (box.hi.z - box.lo.z)};
+            double beyond = -1e300;  // distance outside the hull's nearest facet plane
+            for (const Facet& f : facets)
+                beyond = std::max(beyond, dot(f.n, x) - f.offset);
+            const Vec3d tri[] = {x, x + Vec3d{1e-4, 0, 0}, x + Vec3d{0, 1e-4, 1e-4}};
+            const ShaftPolygon tiny(tri, normalize(cross(tri[1] - tri[0], tri[2] - tri[0])));
+            if (beyond > 1e-2) {
+                ++outside;
+                EXPECT_TRUE(shaft.excludesPolygon(tiny)) << "trial " << trial << ", " << beyond;
+            } else if (beyond < -1e-2) {
+                ++inside;
+                EXPECT_FALSE(shaft.excludesPolygon(tiny)) << "trial " << trial << ", " << beyond;
+            }
+        }
+    }
+    EXPECT_GT(outside, 1000);
+    EXPECT_GT(inside, 1000);
+}
+
 // A solid face between two squares covers their shaft only when it spans every segment.
 TEST(PatchClusters, SolidFaceCoversAShaftItCrossesEntirely) {
     TriangleMesh mesh;
