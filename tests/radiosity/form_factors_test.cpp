@@ -16,7 +16,9 @@
 #include <random>
 
 #include "backend/embree_ray_caster.h"
+#include "radiosity/form_factors_internal.h"
 #include "radiosity/matrix_compare.h"
+#include "shared/formfactor.h"
 #include "verify/closed_forms.h"
 #include "verify/scenes.h"
 
@@ -236,6 +238,30 @@ TEST(FormFactors, FacingAwayPairsAreSkipped) {
     EXPECT_EQ(result.matrix.nonzeroCount(), 0u);
     EXPECT_EQ(result.stats.facingAway, result.stats.pairs);
     EXPECT_EQ(result.stats.raysCast, 0u);
+}
+
+// The candidate pass skips the per-pair test for cluster pairs that face each other by a wide
+// margin (the room's opposite walls) and runs it elsewhere (a tilted plate that some patches see
+// edge-on or from behind): its facing-away count is shared::facingAway over every pair.
+TEST(FormFactors, FacingAwayCountIsThePerPairTestOverEveryPair) {
+    TriangleMesh mesh = verify::unitCubeRoom(4);
+    verify::addGrid(mesh, {0.2, 0.3, 0.2}, {0.6, 0, 0}, {0, 0.3, 0.5}, 3, 3);  // tilted plate
+    verify::addGrid(mesh, {0.2, 0.6, 0.7}, {0.6, 0, 0}, {0, -0.3, -0.5}, 3, 3);  // its back
+    const PatchMesh patches = patchesOf(mesh);
+    const std::vector<shared::PatchGeometry> geometry = detail::kernelGeometry(patches);
+    uint64_t facingAway = 0;
+    for (std::size_t i = 0; i < geometry.size(); ++i) {
+        for (std::size_t j = i + 1; j < geometry.size(); ++j)
+            facingAway += shared::facingAway(geometry[i], geometry[j]) ? 1 : 0;
+    }
+    for (const bool culling : {true, false}) {
+        FormFactorSettings settings;
+        settings.shaftCulling = culling;
+        const FormFactorResult result = build(patches, settings);
+        EXPECT_EQ(result.stats.facingAway, facingAway) << "culling " << culling;
+        EXPECT_GT(result.stats.facingAway, 0u);
+        EXPECT_LT(result.stats.facingAway, result.stats.pairs);
+    }
 }
 
 // Degenerate sizes: one patch has no pairs, an empty row, and still a valid 1 x 1 matrix.
