@@ -62,7 +62,7 @@ Expected<std::vector<uint8_t>> edgeAdaptiveSides(const PatchMesh& mesh, const Ca
         std::vector<SurfaceHit> hits(static_cast<std::size_t>(w));
         for (int y = rows.begin(); y != rows.end(); ++y) {
             for (int x = 0; x < w; ++x) {
-                const auto [ox, oy] = stratumOffset(0, 1);
+                const auto [ox, oy] = sampleOffset(0, 1);
                 rays[std::size_t(x)] = primaryRay(camera, w, h, x + ox, y + oy);
             }
             tracer.closestSurfaceHits(rays, hits);

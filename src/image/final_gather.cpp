@@ -245,7 +245,7 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
             for (int x = 0; x < settings.width; ++x) {
                 const int side = pixelSide(settings, x, y);
                 for (int s = 0; s < side * side; ++s) {
-                    const auto [ox, oy] = stratumOffset(s, side);
+                    const auto [ox, oy] = sampleOffset(s, side);
                     rays[r++] = primaryRay(camera, settings.width, settings.height, x + ox, y + oy);
                 }
             }

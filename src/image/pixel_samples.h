@@ -1,8 +1,9 @@
 #pragma once
 // Where a pixel's samples lie (DESIGN.md section 7): sample s of a pixel sits in stratum
 // (s mod N, (s / N) mod N) of an N x N grid over the pixel, N = ceil(sqrt(samples per pixel)).
-// The ray-cast renderer takes each stratum's centre (deterministic, noise-free); the path tracer
-// jitters within it. Offsets are in pixels from the pixel's top-left corner, in [0, 1).
+// The ray-cast renderers take a fixed place in each stratum (sampleOffset: deterministic,
+// noise-free); the path tracer jitters within it. Offsets are in pixels from the pixel's top-left
+// corner, in [0, 1).
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -24,6 +25,18 @@ inline int samplesPerSide(int samplesPerPixel) {
 inline std::array<double, 2> stratumOffset(int s, int side, double u = 0.5, double v = 0.5) {
     const int cell = s % (side * side);
     return {((cell % side) + u) / side, ((cell / side) + v) / side};
+}
+
+// The ray-cast renderers' sample s: in stratum (i, j) = (s mod N, s / N), at ((j + 1/2) / N,
+// (i + 1/2) / N) of the stratum, so the N^2 samples also lie in N^2 distinct columns and N^2
+// distinct rows of width 1 / N^2 (multi-jittered sampling, Chiu, Shirley & Wang 1994, in its
+// canonical unshuffled arrangement). A horizontal or vertical edge, the common case in a room,
+// then covers a pixel by its area fraction rounded to 1 / N^2 instead of 1 / N (stratum centres
+// see only N columns). The pattern's mean is the pixel's centre. N = 1: the centre.
+inline std::array<double, 2> sampleOffset(int s, int side) {
+    const int cell = s % (side * side);
+    const int i = cell % side, j = cell / side;
+    return stratumOffset(cell, side, (j + 0.5) / side, (i + 0.5) / side);
 }
 
 // Runs renderRows(tbb::blocked_range<int>) over the image's rows [0, height) in parallel: in an

@@ -64,13 +64,13 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
         std::vector<SurfaceHit> hits(rowSamples);
         std::vector<double> sum(stride), sample(stride);
         for (int y = rows.begin(); y != rows.end(); ++y) {
-            // Sample (i, j) of pixel (x, y) sits at the centre of stratum (i, j) of its N x N
-            // grid: a regular, deterministic box-filter supersampling.
+            // Sample (i, j) of pixel (x, y) sits in stratum (i, j) of its N x N grid, at its
+            // multi-jittered place (pixel_samples.h): deterministic box-filter supersampling.
             std::size_t k = 0;
             for (int x = 0; x < settings.width; ++x) {
                 const int side = pixelSide(settings, x, y);
                 for (int s = 0; s < side * side; ++s) {
-                    const auto [ox, oy] = stratumOffset(s, side);
+                    const auto [ox, oy] = sampleOffset(s, side);
                     rays[k++] = primaryRay(camera, settings.width, settings.height, x + ox, y + oy);
                 }
             }

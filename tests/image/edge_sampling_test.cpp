@@ -106,8 +106,8 @@ TEST(EdgeSampling, AFaceInFrontOfAParallelWallAndACreaseAreEdges) {
 }
 
 // With the map, the pixel the edge crosses covers the edge grid's rounding of its area fraction
-// (renderer_test.cpp's EdgeCoverageIsTheAreaFraction for a uniform grid), every other pixel is
-// exactly in or out.
+// to 1 / N^2 (renderer_test.cpp's EdgeCoverageIsTheAreaFraction for a uniform grid), every
+// other pixel is exactly in or out.
 TEST(EdgeSampling, EdgePixelCoverageIsTheAreaFractionAtTheEdgeGrid) {
     const int size = 8;
     for (const int edgeSpp : {4, 16, 64}) {
@@ -125,7 +125,8 @@ TEST(EdgeSampling, EdgePixelCoverageIsTheAreaFractionAtTheEdgeGrid) {
             ASSERT_TRUE(image.ok()) << image.error().message;
             const int pixel = int(std::floor(xEdge));
             const double fraction = xEdge - pixel;
-            const double rounded = std::ceil(fraction * side - 0.5) / side;
+            const int columns = side * side;  // multi-jittered: N^2 sample columns
+            const double rounded = std::ceil(fraction * columns - 0.5) / columns;
             for (int y = 0; y < size; ++y) {
                 for (int x = 0; x < size; ++x) {
                     const double expected = x < pixel ? 1.0 : x > pixel ? 0.0 : rounded;

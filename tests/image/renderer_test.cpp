@@ -134,45 +134,60 @@ TEST(ImageRenderer, RejectsAnEmptyImage) {
 namespace daisy {
 namespace {
 
-// Supersampling positions (image/pixel_samples.h): a vertical edge at image position xEdge
-// (pixels) covers a pixel by the fraction of its N x N stratum centres left of the edge, which
-// is the analytic area fraction f rounded to a multiple of 1 / N: within 1 / (2N), and exactly
-// ceil(f N - 1/2) / N. Samples half a pixel off (the bug issue 16 reported) miss these by 1/2.
+// Supersampling positions (image/pixel_samples.h): a vertical or horizontal edge at image
+// position e (pixels) covers a pixel by the fraction of its N x N samples on its side. The
+// multi-jittered samples sit in N^2 distinct columns and rows at (k + 1/2) / N^2, so that is
+// the analytic area fraction f rounded to a multiple of 1 / N^2: within 1 / (2 N^2), and exactly
+// ceil(f N^2 - 1/2) / N^2 (stratum centres alone would round to 1 / N). Samples half a pixel
+// off (the bug issue 16 reported) miss these by 1/2.
 TEST(ImageRenderer, EdgeCoverageIsTheAreaFraction) {
     const Camera camera = originCamera();
     const int width = 8, height = 8;
     const double tanHalf = std::tan(0.5 * camera.yFovRad);
-    for (const int spp : {1, 4, 16, 64}) {
-        const int side = int(std::lround(std::sqrt(double(spp))));
-        for (const double xEdge : {3.5, 3.25, 4.75, 4.8, 2.1}) {
-            // The edge's point at depth 1 (z = -1): primaryRay's mapping, square image.
-            const double edge = (2 * xEdge / width - 1) * tanHalf;
-            TriangleMesh triangles;
-            verify::addQuad(triangles, {-10, -10, -1}, {edge, -10, -1}, {edge, 10, -1},
-                            {-10, 10, -1});
-            const PatchMesh mesh = verify::patchesOf(triangles);
-            const std::vector<float> corners(mesh.patchCount() * 3, 1.0f);
-            const float background = 0;
-            RenderSettings settings;
-            settings.width = width;
-            settings.height = height;
-            settings.samplesPerPixel = spp;
-            const auto image =
-                renderCornerValues(mesh, camera, settings, corners, 1, {&background, 1});
-            ASSERT_TRUE(image.ok()) << image.error().message;
-            const int pixel = int(std::floor(xEdge));
-            const double fraction = xEdge - pixel;
-            // Stratum centres (i + 0.5) / N left of the edge: i < f N - 1/2.
-            const double rounded = std::ceil(fraction * side - 0.5) / side;
-            for (int y = 0; y < height; ++y) {
-                EXPECT_EQ(image->at(pixel - 1, y)[0], 1.0f);
-                EXPECT_EQ(image->at(pixel + 1, y)[0], 0.0f);
-                EXPECT_NEAR(image->at(pixel, y)[0], fraction, 0.5 / side + 1e-6)
-                    << "spp " << spp << " edge " << xEdge;
-                const double atCentre = fraction * side - 0.5;  // an edge through a centre
-                if (std::abs(atCentre - std::round(atCentre)) > 1e-3) {
-                    EXPECT_NEAR(image->at(pixel, y)[0], rounded, 1e-6)
-                        << "spp " << spp << " edge " << xEdge;
+    for (const bool vertical : {true, false}) {
+        for (const int spp : {1, 4, 16, 64}) {
+            const int side = int(std::lround(std::sqrt(double(spp))));
+            const int columns = side * side;
+            for (const double at : {3.5, 3.25, 4.75, 4.8, 2.1}) {
+                // The edge's line at depth 1 (z = -1), primaryRay's mapping (square image): the
+                // quad covers image positions below `at` (left of it, or above it).
+                TriangleMesh triangles;
+                if (vertical) {
+                    const double e = (2 * at / width - 1) * tanHalf;
+                    verify::addQuad(triangles, {-10, -10, -1}, {e, -10, -1}, {e, 10, -1},
+                                    {-10, 10, -1});
+                } else {
+                    const double e = (1 - 2 * at / height) * tanHalf;
+                    verify::addQuad(triangles, {-10, e, -1}, {10, e, -1}, {10, 10, -1},
+                                    {-10, 10, -1});
+                }
+                const PatchMesh mesh = verify::patchesOf(triangles);
+                const std::vector<float> corners(mesh.patchCount() * 3, 1.0f);
+                const float background = 0;
+                RenderSettings settings;
+                settings.width = width;
+                settings.height = height;
+                settings.samplesPerPixel = spp;
+                const auto image =
+                    renderCornerValues(mesh, camera, settings, corners, 1, {&background, 1});
+                ASSERT_TRUE(image.ok()) << image.error().message;
+                const int pixel = int(std::floor(at));
+                const double fraction = at - pixel;
+                // Sample columns (k + 0.5) / N^2 before the edge: k < f N^2 - 1/2.
+                const double rounded = std::ceil(fraction * columns - 0.5) / columns;
+                const double atSample = fraction * columns - 0.5;  // an edge through a sample
+                for (int k = 0; k < width; ++k) {
+                    const auto value = [&](int across) {
+                        return vertical ? image->at(across, k)[0] : image->at(k, across)[0];
+                    };
+                    EXPECT_EQ(value(pixel - 1), 1.0f);
+                    EXPECT_EQ(value(pixel + 1), 0.0f);
+                    EXPECT_NEAR(value(pixel), fraction, 0.5 / columns + 1e-6)
+                        << "spp " << spp << " edge " << at << " vertical " << vertical;
+                    if (std::abs(atSample - std::round(atSample)) > 1e-3) {
+                        EXPECT_NEAR(value(pixel), rounded, 1e-6)
+                            << "spp " << spp << " edge " << at << " vertical " << vertical;
+                    }
                 }
             }
         }

@@ -197,11 +197,11 @@ TEST(FinalGather, PerPixelSampleGridsKeepShadowsAndTheClosedForm) {
         for (int x = 0; x < settings.width; ++x) {
             Vec3d point;
             if (!receiverPoint(open.camera, settings.width, settings.height, x, y, point)) continue;
-            // The closed form's mean over the pixel's grid of stratum centres.
+            // The closed form's mean over the pixel's samples.
             const int side = sides[std::size_t(y * settings.width + x)];
             double exact = 0;
             for (int k = 0; k < side * side; ++k) {
-                const auto [ox, oy] = stratumOffset(k, side);
+                const auto [ox, oy] = sampleOffset(k, side);
                 const Vec3d at =
                     onReceiverPlane(open.camera, settings.width, settings.height, x + ox, y + oy);
                 exact += 0.5 * verify::pointToPolygon(at, {0, 0, 1}, open.source) / kPi;
