@@ -83,7 +83,7 @@ double medianPatchSize(const PatchMesh& patches) {
 }  // namespace
 
 double NearField::windowWeight(double distance) const {
-    const double t = 2 * distance / radius_ - 1;  // 0 at R / 2, 1 at R
+    const double t = 4 * distance / radius_ - 3;  // 0 at 3R / 4, 1 at R
     if (t <= 0) return 1;
     if (t >= 1) return 0;
     return 1 - t * t * (3 - 2 * t);

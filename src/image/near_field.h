@@ -11,7 +11,7 @@
 // contour formula, shared/formfactor.h), window-weighted by distance:
 //     Near(x) = sum_{j near i} w(|x - c_j|) v_ij F(x -> j) (B_j - E_j),
 //     Omega(x) = sum_{j near i} w(|x - c_j|) v_ij F(x -> j)   (the share of x's hemisphere),
-// w = 1 up to R / 2, a smoothstep to 0 at R; v_ij the pair's visibility, F_ij over the mean of
+// w = 1 up to 3R / 4, a smoothstep to 0 at R; v_ij the pair's visibility, F_ij over the mean of
 // the unoccluded F(x -> j), set to 1 within 5% of 1 (the rule's own error, not occlusion). Both
 // are evaluated at the 15 nodes of a 4 x 4 lattice on each patch (pulled 1e-3 towards the
 // centroid, so a node on a crease sees the neighbour's limit) and interpolated linearly per
