@@ -47,8 +47,8 @@ void printVerboseStats(const FormFactorStats& s) {
             " cluster pairs, traced ", formatCount(s.costTracedClusterPairs),
             " without culling (rays cheaper), stopped ", formatCount(s.costStoppedRefinements),
             " refinements; culling measured over predicted ", formatNumber(s.costCullScale, 3),
-            "; culling sampled only after ", formatCount(s.costGateClosedWaves),
-            " waves where it had cost more than it saved"));
+            ", rays ", formatNumber(s.costRayScale, 3), "; culling sampled only after ",
+            formatCount(s.costGateClosedWaves), " waves where it had cost more than it saved"));
     } else if (s.culledClusterPairs > 0) {
         logVerbose(concat("  cost model off: culled all ", formatCount(s.culledClusterPairs),
                           " cluster pairs"));

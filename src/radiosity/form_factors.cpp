@@ -195,6 +195,13 @@ struct BlockOutput {
     }
 };
 
+// One wave's evaluation, for the ray cost's correction: thread seconds of the clear and the
+// traced batches, the clear pairs, and the traced pairs' rays and open pairs (some ray through).
+struct WaveEvaluation {
+    double clearSeconds = 0, tracedSeconds = 0;
+    uint64_t clearPairs = 0, rays = 0, openTraced = 0;
+};
+
 struct ThreadScratch {
     // One shaft per refinement depth, reused: a Shaft is a few KiB, not worth rebuilding.
     std::vector<std::unique_ptr<Shaft>> shafts;
@@ -273,7 +280,7 @@ private:
     }
     // Estimated seconds (one thread) of tracing `pairs` pairs.
     double traceCost(uint64_t pairs) const {
-        return double(pairs) * settings_.raysPerPair * stats_.costRaySeconds;
+        return double(pairs) * settings_.raysPerPair * stats_.costRaySeconds * rayScale_;
     }
     // Calibrated seconds (one thread) of `children` sub-shafts filtering `blockers` blockers,
     // each also scanned by the cover test, before the online correction.
@@ -285,7 +292,7 @@ private:
     // predicted for it (cumulative, clamped to [1/4, 16]): the model corrects its own bias (the
     // rays are not corrected so: a traced batch's time cannot be split into rays and kernel);
     // and the gate: culling stays on only while it has saved more ray time than it took.
-    void correctCosts(const std::vector<BlockOutput>& outputs);
+    void correctCosts(const std::vector<BlockOutput>& outputs, const WaveEvaluation& wave);
 
     const PatchMesh& mesh_;
     const FormFactorSettings& settings_;
@@ -299,6 +306,12 @@ private:
     bool costModel_ = false;  // on once calibrated
     double cullScale_ = 1;  // measured / predicted culling time so far
     double cullSeconds_ = 0, cullPredicted_ = 0;
+    // The rays' correction, from the waves' own evaluation: thread seconds of the clear pairs'
+    // batches (kernel only) per pair, and of the traced batches less the kernel of their open
+    // pairs per ray; measured / calibrated ray cost, clamped to [1/4, 4].
+    double rayScale_ = 1;
+    double kernelSeconds_ = 0, raySeconds_ = 0;
+    uint64_t kernelPairs_ = 0, raysMeasured_ = 0;
     // Open while culling has so far saved more ray time than it took; closed, only one cluster
     // pair in kGateSample is culled (to keep measuring), the rest traced.
     bool gateOpen_ = true;
@@ -775,18 +788,28 @@ Expected<void> PairLoop::evaluate(const std::vector<BlockOutput>& outputs, bool 
     return flush();
 }
 
-void PairLoop::correctCosts(const std::vector<BlockOutput>& outputs) {
+void PairLoop::correctCosts(const std::vector<BlockOutput>& outputs, const WaveEvaluation& wave) {
     for (const BlockOutput& out : outputs) {
         cullSeconds_ += out.cullSeconds;
         cullPredicted_ += out.cullPredicted;
     }
     if (cullPredicted_ > 0) cullScale_ = std::clamp(cullSeconds_ / cullPredicted_, 0.25, 16.0);
     stats_.costCullScale = cullScale_;
+    kernelSeconds_ += wave.clearSeconds;
+    kernelPairs_ += wave.clearPairs;
+    if (kernelPairs_ > 0 && wave.rays > 0) {
+        const double kernel = kernelSeconds_ / double(kernelPairs_);
+        raySeconds_ += std::max(0.0, wave.tracedSeconds - double(wave.openTraced) * kernel);
+        raysMeasured_ += wave.rays;
+        rayScale_ =
+            std::clamp(raySeconds_ / double(raysMeasured_) / stats_.costRaySeconds, 0.25, 4.0);
+        stats_.costRayScale = rayScale_;
+    }
     // What culling saved: the rays of every pair it decided (clear or covered; the stats are
     // cumulative, this wave's already added).
     const uint64_t resolved =
         stats_.clearClusterShafts + stats_.clearPairShafts + stats_.coveredPairs;
-    gateOpen_ = cullSeconds_ <= double(resolved) * settings_.raysPerPair * stats_.costRaySeconds;
+    gateOpen_ = cullSeconds_ <= traceCost(resolved);
     stats_.costGateClosedWaves += gateOpen_ ? 0 : 1;
 }
 
@@ -863,16 +886,27 @@ Expected<FormFactorResult> PairLoop::run() {
                                   }
                               });
             if (isCancelled(settings_.cancel)) return Error{kInterruptedMessage};
+            WaveEvaluation evaluated;
+            const uint64_t raysBefore = stats_.raysCast;
+            const uint64_t hiddenBefore = stats_.hiddenPairs;
+            const uint64_t tracedBefore = stats_.tracedPairs;
             for (bool traced : {false, true}) {
+                const auto evaluateStart = Clock::now();
                 Expected<void> done = evaluate(outputs, traced);
                 if (!done) return done.error();
+                (traced ? evaluated.tracedSeconds : evaluated.clearSeconds) =
+                    secondsSince(evaluateStart) * double(threads);
             }
+            evaluated.rays = stats_.raysCast - raysBefore;
+            evaluated.openTraced =
+                (stats_.tracedPairs - tracedBefore) - (stats_.hiddenPairs - hiddenBefore);
             uint64_t pairs = 0;
             for (const BlockOutput& out : outputs) {
                 addStats(stats_, out.stats);
                 pairs += out.pairs;
+                evaluated.clearPairs += out.clear.size();
             }
-            if (costModel_) correctCosts(outputs);
+            if (costModel_) correctCosts(outputs, evaluated);
             progress.advance(pairs);
             first = last;
         }

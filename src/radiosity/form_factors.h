@@ -92,6 +92,7 @@ struct FormFactorStats {
     // The online correction at the end: measured culling time over the predicted; and the
     // waves after which culling had cost more than it saved (then only sampled).
     double costCullScale = 1;
+    double costRayScale = 1;  // measured ray cost in the pair loop over the calibrated
     uint64_t costGateClosedWaves = 0;
     uint64_t slots = 0;  // CSR entries allocated before zeros were dropped
     uint64_t nonzeros = 0;

@@ -111,6 +111,12 @@ TEST(FormFactorsCli, VerboseLogsTheCostModelsChoice) {
     if (measured) {
         EXPECT_NE(run.output.find(" cluster pairs, traced "), std::string::npos) << run.output;
         EXPECT_NE(run.output.find(" refinements"), std::string::npos) << run.output;
+        // The rays' in-situ correction, a factor the clamp keeps in [1/4, 4].
+        const std::size_t at = run.output.find(", rays ");
+        ASSERT_NE(at, std::string::npos) << run.output;
+        const double scale = std::stod(run.output.substr(at + 7));
+        EXPECT_GE(scale, 0.25) << run.output;
+        EXPECT_LE(scale, 4.0) << run.output;
     }
 }
 
