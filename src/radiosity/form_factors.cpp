@@ -288,10 +288,10 @@ private:
         return double(children) *
             (stats_.costShaftSeconds + 2.0 * double(blockers) * stats_.costTestSeconds);
     }
-    // After each wave, the measured time of culling against what the calibrated model
-    // predicted for it (cumulative, clamped to [1/4, 16]): the model corrects its own bias (the
-    // rays are not corrected so: a traced batch's time cannot be split into rays and kernel);
-    // and the gate: culling stays on only while it has saved more ray time than it took.
+    // After each wave, the model corrects its own bias: the measured time of culling against
+    // what the calibrated model predicted for it (cumulative, clamped to [1/4, 16]); the rays'
+    // cost from the wave's batches (rayScale_); and the gate: culling stays on only while it
+    // has saved more ray time than it took.
     void correctCosts(const std::vector<BlockOutput>& outputs, const WaveEvaluation& wave);
 
     const PatchMesh& mesh_;
@@ -331,7 +331,7 @@ private:
 };
 
 // The lowest and highest signed heights of b's outline (which holds every corner of b's
-// patches) above a's plane, and the scale of the two clusters' coordinates.
+// patches) above a's plane.
 std::pair<double, double> PairLoop::heightsAbove(const ClusterNode& a, const ClusterNode& b) const {
     const SkipPlane plane = clusterPlane(a);
     double lowest = std::numeric_limits<double>::infinity();
@@ -344,6 +344,8 @@ std::pair<double, double> PairLoop::heightsAbove(const ClusterNode& a, const Clu
     return {lowest, highest};
 }
 
+// The scale of two clusters' coordinates: their bounds' diagonal plus its farthest corner's
+// distance from the origin.
 double PairLoop::clusterPairScale(const ClusterNode& a, const ClusterNode& b) const {
     const Bounds3d bounds = boundsOf(clusters_.outline(a), clusters_.outline(b));
     return bounds.diagonal() + std::max(length(bounds.lo), length(bounds.hi));
