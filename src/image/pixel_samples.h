@@ -22,7 +22,7 @@ inline int samplesPerSide(int samplesPerPixel) {
 
 // Offset of sample s in an N x N grid (side = N) with (u, v) in [0, 1) its place inside the
 // stratum: (0.5, 0.5) is the stratum's centre.
-inline std::array<double, 2> stratumOffset(int s, int side, double u = 0.5, double v = 0.5) {
+inline std::array<double, 2> stratumOffset(int s, int side, double u, double v) {
     const int cell = s % (side * side);
     return {((cell % side) + u) / side, ((cell / side) + v) / side};
 }
