@@ -158,19 +158,14 @@ __attribute__((target("avx2"))) void pointToTriangleFactorsAvx2(const FarFieldSc
                                                                 float* out) {
     pointToTriangleFactorsOf<8>(s, out);
 }
-#endif
 
-// The widest of the above the processor runs.
-void pointToTriangleFactors(const FarFieldScratch& s, float* out) {
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-    static const bool avx2 = __builtin_cpu_supports("avx2");
-    if (avx2) {
-        pointToTriangleFactorsAvx2(s, out);
-        return;
-    }
-#endif
-    pointToTriangleFactorsSse(s, out);
+// AVX-512 has fused multiply-add, which GCC would contract a * b + c into (one rounding where
+// the shared kernel has two): this file is compiled with -ffp-contract=off (CMakeLists.txt).
+__attribute__((target("avx512f"))) void pointToTriangleFactorsAvx512(const FarFieldScratch& s,
+                                                                     float* out) {
+    pointToTriangleFactorsOf<16>(s, out);
 }
+#endif
 
 // max(max(length(a), length(b)), length(c)) of the shared kernel with one square root: sqrt is
 // correctly rounded and monotone, so the largest root is the root of the largest square.
@@ -317,6 +312,23 @@ shared::PairFactors onePair(int method, int level, const PatchGeometry& i, const
 }
 
 }  // namespace
+
+// The widest of the above the processor runs.
+void pointToTriangleFactors(const FarFieldScratch& s, float* out) {
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+    static const bool avx512 = __builtin_cpu_supports("avx512f");
+    static const bool avx2 = __builtin_cpu_supports("avx2");
+    if (avx512) {
+        pointToTriangleFactorsAvx512(s, out);
+        return;
+    }
+    if (avx2) {
+        pointToTriangleFactorsAvx2(s, out);
+        return;
+    }
+#endif
+    pointToTriangleFactorsSse(s, out);
+}
 
 shared::PairFactors pairFactorsCpu(int method, int level, const PatchGeometry& i,
                                    const PatchGeometry& j) {

@@ -38,6 +38,11 @@ struct FarFieldScratch {
     std::vector<shared::PairFactors> factors;
 };
 
+// out[k] = shared::pointToTriangleFactor(p.position, p.receiver->normal, *p.target) for every
+// point p = s.points[k], bit-identical, in SSE or AVX2 lanes (the final gather's lights use it
+// too). s.values is not touched.
+void pointToTriangleFactors(const FarFieldScratch& s, float* out);
+
 // shared::pairFactors(method, level, i, j), with the hybrid method's far cells vectorised.
 shared::PairFactors pairFactorsCpu(int method, int level, const shared::PatchGeometry& i,
                                    const shared::PatchGeometry& j);
