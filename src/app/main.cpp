@@ -86,8 +86,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 16.0))
         ->capture_default_str();
     renderCmd
-        ->add_option("--gather-rays", render.gatherRays,
-                     "Shadow rays per light per sample of the direct gather")
+        ->add_option(
+            "--gather-rays", render.gatherRays,
+            "Shadow segments per penumbra pixel of the direct gather (1/16 of it elsewhere)")
         ->check(CLI::Range(1, 1024))
         ->capture_default_str();
 

@@ -66,7 +66,7 @@ struct RenderOptions {
     // direct light from the emitters: image/final_gather.h) | near (direct, plus the near-field
     // indirect light and the buried parts of patches: image/near_field.h)
     std::string gather = "near";
-    int gatherRays = 16;  // shadow segments per light per sample of the direct gather
+    int gatherRays = 64;  // shadow segments per penumbra pixel (image/final_gather.h)
     double nearRadius = 2;  // --gather near: R in patch sizes (image/near_field.h)
 };
 

@@ -13,6 +13,7 @@
 #include "image/camera.h"
 #include "image/emitter_lights.h"
 #include "image/pixel_samples.h"
+#include "radiosity/hybrid_far_field.h"
 #include "shared/formfactor.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
@@ -38,6 +39,7 @@ struct Light {
     shared::PatchGeometry geometry;
     const double* emission;
     double power;
+    uint32_t spectrum;  // lights with equal emission share it: 0, 1, ... in order of appearance
 };
 
 // The emitting source triangles of the scene, coplanar faces merged (image/emitter_lights.h).
@@ -45,6 +47,7 @@ std::vector<Light> lightsOf(const Scene& scene, const PatchMesh& patches,
                             const RadiositySystem& system) {
     std::vector<uint32_t> triangles, emissionClass;
     std::vector<uint32_t> patchOf(scene.mesh.triangleCount(), kNoPatch);
+    std::vector<uint32_t> classOf(scene.mesh.triangleCount(), 0);
     std::map<std::vector<double>, uint32_t> classes;
     for (uint32_t p = 0; p < patches.patchCount(); ++p) {
         const uint32_t t = patches.sourceTriangle[p];
@@ -55,6 +58,7 @@ std::vector<Light> lightsOf(const Scene& scene, const PatchMesh& patches,
         emissionClass.push_back(
             classes.emplace(std::vector<double>(e, e + system.wavelengthCount), classes.size())
                 .first->second);
+        classOf[t] = emissionClass.back();
     }
     std::vector<Light> lights;
     for (const LightTriangle& light : mergeEmitterFaces(scene.mesh, triangles, emissionClass)) {
@@ -65,7 +69,7 @@ std::vector<Light> lightsOf(const Scene& scene, const PatchMesh& patches,
         lights.push_back(
             {shared::makePatchGeometry(toVec3(light.corners[0]), toVec3(light.corners[1]),
                                        toVec3(light.corners[2])),
-             emission, power});
+             emission, power, classOf[light.sourceTriangle]});
     }
     return lights;
 }
@@ -95,6 +99,21 @@ constexpr float kLightClearance = 1e-3f;
 // Lights up to which every light's exact factor weighs every sample's shadow segments.
 constexpr std::size_t kExactLightLimit = 32;
 
+// The segments drawn to one light from one sample (renderDirectLight).
+struct LightTally {
+    int segments = 0, open = 0;
+    double kernel = 0, openKernel = 0;  // sums of pointKernel over them, and over the open ones
+};
+
+// The point-to-point kernel cos_x cos_e / r^2 between receiver x (normal n) and light point e
+// (light normal ln), up to the factor 1 / pi; 0 where either cosine is not positive.
+float pointKernel(shared::vec3 x, shared::vec3 n, shared::vec3 ln, shared::vec3 e) {
+    const shared::vec3 d = e - x;
+    const float r2 = dot(d, d);
+    const float cx = dot(n, d), ce = -dot(ln, d);
+    return cx > 0 && ce > 0 && r2 > 0 ? cx * ce / (r2 * r2) : 0.0f;
+}
+
 // A cheap stand-in for F(x -> t) that is > 0 wherever F is: the point-source factor
 // A cos_x cos_t / (pi (r^2 + A)) from t's centroid (r^2 + A keeps it finite near the light),
 // cos_x the largest over t's corners and centroid, plus a floor of 1e-3 of the cosine-free
@@ -116,6 +135,39 @@ float approximateFactor(const shared::PatchGeometry& t, shared::vec3 x, shared::
     const float cosT = facing / std::sqrt(r2);
     const float base = t.area / (float(kPi) * (r2 + t.area));
     return base * (cosX * cosT + 1e-3f);
+}
+
+// How many times the segments of the other pixels a penumbra pixel takes (final_gather.h): 16
+// where each light's exact factor weighs the draw (open segments then estimate exactly), 4 where
+// the cheap stand-in does (each open segment carries its own ratio, so every pixel needs some).
+constexpr int kPenumbraFactorExact = 16;
+constexpr int kPenumbraFactorApproximate = 4;
+
+// A pixel's shadow marks: for light l, bit 2 (l mod 32) when one of its segments to l was open,
+// the next bit when one was blocked.
+uint64_t shadowMark(uint32_t light, bool open) {
+    return uint64_t(open ? 1 : 2) << (2 * (light % 32));
+}
+
+// Per pixel, 1 where the marks of its 8 neighbours (not the pixel's own) hold both an open and a
+// blocked segment to one light: a penumbra, or a shadow's edge, passes next to it.
+std::vector<uint8_t> penumbraNeighbours(const std::vector<uint64_t>& marks, int width, int height) {
+    std::vector<uint8_t> selected(marks.size(), 0);
+    for (int y = 0; y < height; ++y) {
+        for (int x = 0; x < width; ++x) {
+            uint64_t around = 0;
+            for (int dy = -1; dy <= 1; ++dy) {
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int nx = x + dx, ny = y + dy;
+                    if ((dx != 0 || dy != 0) && nx >= 0 && ny >= 0 && nx < width && ny < height)
+                        around |= marks[std::size_t(ny) * width + nx];
+                }
+            }
+            selected[std::size_t(y) * width + x] =
+                (around & (around >> 1) & 0x5555555555555555ull) != 0;
+        }
+    }
+    return selected;
 }
 
 }  // namespace
@@ -216,33 +268,66 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
         maxSide = int(*hi);
     }
     const std::size_t rowSamples = std::size_t(settings.width) * maxSide * maxSide;
-    // --gather-rays is per pixel: shared out over its samples, at least one each; each sample
-    // draws its segments over all lights.
-    const auto raysPerSample = [&](int samples) {
-        return std::max(1, (direct.shadowRays + samples - 1) / samples);
-    };
-    const int maxK = raysPerSample(minSide * minSide);
-    const uint32_t imageSeed = shared::pcgHash(direct.seed ^ 0x2545f491u);
     // Few lights: the exact factor of each, per sample. Many (over kExactLightLimit after the
     // faces are merged): a cheap approximation picks the lights and only the picked ones get
     // the exact factor.
     const bool exactWeights = lights.size() <= kExactLightLimit;
+    std::vector<const double*> spectra;  // the emission of each Light::spectrum
+    for (const Light& light : lights) {
+        if (light.spectrum >= spectra.size()) spectra.resize(light.spectrum + 1, nullptr);
+        spectra[light.spectrum] = light.emission;
+    }
+    const int penumbraFactor = exactWeights ? kPenumbraFactorExact : kPenumbraFactorApproximate;
+    // --gather-rays is per penumbra pixel; the others take 1 / penumbraFactor of it (at least
+    // one), shared out over the pixel's samples, at least one each; each sample draws its
+    // segments over all lights.
+    const auto raysPerSample = [&](int samples) {
+        const int base = std::max(1, direct.shadowRays / penumbraFactor);
+        return std::max(1, (base + samples - 1) / samples);
+    };
+    const int maxK = raysPerSample(minSide * minSide);
+    const uint32_t imageSeed = shared::pcgHash(direct.seed ^ 0x2545f491u);
 
-    const auto renderRows = [&](const tbb::blocked_range<int>& rows) {
+    // Pass 1 renders every pixel with k segments a sample and marks, per light, whether its
+    // segments were open or blocked. Pass 2 renders again, with (penumbraFactor - 1) k segments
+    // a sample and an independent seed, the pixels whose 8 neighbours' marks hold both for one
+    // light, and averages the two passes by their segment counts. A pixel's own marks never
+    // select it, so its pass-1 value is independent of being selected: unbiased.
+    std::vector<uint64_t> marks(std::size_t(settings.width) * settings.height, 0);
+    std::vector<uint8_t> selected;
+    struct Pass {
+        int rayFactor;  // segments a sample, in units of raysPerSample
+        uint32_t seed;
+    };
+    const auto renderRows = [&](const tbb::blocked_range<int>& rows, const Pass& pass) {
+        const auto wanted = [&](int x, int y) {
+            return selected.empty() || selected[std::size_t(y) * settings.width + x] != 0;
+        };
         std::vector<Ray> rays(rowSamples);
         std::vector<SurfaceHit> hits(rowSamples);
         SegmentArrays segments;
-        segments.resize(std::size_t(maxK));
+        segments.resize(std::size_t(maxK * pass.rayFactor));
         std::vector<uint8_t> blocked(segments.size());
         std::vector<float> factor(lights.size());
         std::vector<double> cdf(lights.size());
         std::vector<int> picks(lights.size());
-        std::vector<uint32_t> chosen(static_cast<std::size_t>(maxK));
+        std::vector<uint32_t> chosen(segments.size());
+        std::vector<float> kernel(segments.size());
+        std::vector<LightTally> tally(lights.size());
+        std::vector<double> spectrumWeight(spectra.size());
+        // The lights as points of a factor batch (radiosity/hybrid_far_field.h): one receiver
+        // whose normal and position each sample sets.
+        shared::PatchGeometry receiver{};
+        FarFieldScratch lightScratch;
+        for (const Light& light : lights)
+            lightScratch.points.push_back({{}, &receiver, &light.geometry});
+        std::vector<uint32_t> touched;
         std::vector<double> irradiance(m), reflected(m), sum(static_cast<std::size_t>(channels));
         std::vector<double> sampleValues(std::size_t(xyzChannel) + 3);
         for (int y = rows.begin(); y != rows.end(); ++y) {
             std::size_t r = 0;
             for (int x = 0; x < settings.width; ++x) {
+                if (!wanted(x, y)) continue;
                 const int side = pixelSide(settings, x, y);
                 for (int s = 0; s < side * side; ++s) {
                     const auto [ox, oy] = sampleOffset(s, side);
@@ -250,6 +335,7 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                 }
             }
             const std::size_t rowCount = r;
+            if (rowCount == 0) continue;
             tracer.closestSurfaceHits(std::span<const Ray>(rays.data(), rowCount),
                                       std::span<SurfaceHit>(hits.data(), rowCount));
             if (shader != nullptr) {
@@ -259,16 +345,18 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
             }
             r = 0;
             for (int x = 0; x < settings.width; ++x) {
+                if (!wanted(x, y)) continue;
                 const int side = pixelSide(settings, x, y);
                 const int samples = side * side;
-                const int k = raysPerSample(samples);
+                const int k = raysPerSample(samples) * pass.rayFactor;
                 std::fill(sum.begin(), sum.end(), 0.0);
+                uint64_t mark = 0;
                 // The pixel's samples share one stratification of the light draw: pick q of
                 // sample s takes stratum permute(s k + q) of samples x k (a per-pixel random
                 // permutation, so each pick is marginally uniform: unbiased), and a light's
                 // points continue one stratified stream across the pixel.
                 const uint32_t pixelSeed = shared::pcgHash(
-                    imageSeed ^
+                    pass.seed ^
                     shared::pcgHash(uint32_t(y) * uint32_t(settings.width) + uint32_t(x)));
                 std::fill(picks.begin(), picks.end(), 0);
                 const int strata = samples * k;
@@ -291,7 +379,7 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                     // Unoccluded factors, weighted by each light's power: the distribution
                     // the k shadow segments are drawn from (stratified over its CDF).
                     const uint32_t sampleSeed = shared::pcgHash(
-                        imageSeed ^
+                        pass.seed ^
                         shared::pcgHash((uint32_t(y) * uint32_t(settings.width) + uint32_t(x)) *
                                             uint32_t(samples) +
                                         uint32_t(s)));
@@ -302,10 +390,15 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                     // not one per sample.
                     if (!lights.empty() && (exactWeights || p != weightsPatch)) {
                         total = 0;
+                        if (exactWeights) {  // every light's exact factor, in SIMD lanes
+                            receiver.normal = nf;
+                            for (std::size_t l = 0; l < lights.size(); ++l)
+                                lightScratch.points[l].position = xf;
+                            pointToTriangleFactors(lightScratch, factor.data());
+                        }
                         for (std::size_t l = 0; l < lights.size(); ++l) {
-                            factor[l] = exactWeights
-                                ? shared::pointToTriangleFactor(xf, nf, lights[l].geometry)
-                                : approximateFactor(lights[l].geometry, xf, nf);
+                            if (!exactWeights)
+                                factor[l] = approximateFactor(lights[l].geometry, xf, nf);
                             total += factor[l] > 0 ? double(factor[l]) * lights[l].power : 0.0;
                             cdf[l] = total;
                         }
@@ -333,26 +426,70 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                         // surface the light lies on (a lamp face on its stand) does not block.
                         const shared::vec3 end = e + (xf - e) * kLightClearance;
                         segments.set(std::size_t(q), xf.x, xf.y, xf.z, end.x, end.y, end.z);
+                        kernel[std::size_t(q)] = pointKernel(xf, nf, lights[l].geometry.normal, e);
                     }
                     if (drawn > 0)
                         tracer.occluded(segments,
                                         std::span<uint8_t>(blocked.data(), std::size_t(drawn)));
-                    // H = sum_l E_l F_l V_l, each segment an estimate of E_l F_l / p_l with
-                    // p_l = F_l P_l / total: E_l total / (P_l k) when open.
+                    touched.clear();
                     for (int q = 0; q < drawn; ++q) {
-                        if (blocked[std::size_t(q)]) continue;
                         const uint32_t l = chosen[std::size_t(q)];
-                        const Light& light = lights[l];
-                        // With approximate weights, the chosen light's exact factor over its
-                        // weight (importance sampling); with exact ones that ratio is 1.
-                        const double ratio = exactWeights
-                            ? 1.0
-                            : double(shared::pointToTriangleFactor(xf, nf, light.geometry)) /
-                                double(factor[l]);
-                        const double scale = ratio * total / (light.power * k);
-                        for (std::size_t w = 0; w < m; ++w)
-                            irradiance[w] += light.emission[w] * scale;
+                        const bool open = !blocked[std::size_t(q)];
+                        LightTally& t = tally[l];
+                        if (t.segments++ == 0) touched.push_back(l);
+                        t.kernel += kernel[std::size_t(q)];
+                        t.openKernel += open ? kernel[std::size_t(q)] : 0.0;
+                        t.open += open ? 1 : 0;
+                        mark |= shadowMark(l, open);
                     }
+                    // H = sum_l E_l F_l V_l, V_l from the segments drawn to l: the
+                    // kernel-weighted open fraction sum G open / sum G (the points are uniform
+                    // in area; V weighs them by G: a ratio estimator, consistent, exact when all
+                    // are open or all blocked).
+                    const auto openFraction = [](const LightTally& t) {
+                        return t.kernel > 0 ? t.openKernel / t.kernel
+                                            : double(t.open) / std::max(1, t.segments);
+                    };
+                    if (exactWeights) {
+                        // Every light's F_l is known: each takes its own V_l, a light that drew
+                        // no segment the pooled one of those that did. Exact wherever every
+                        // segment is open (or every one blocked), whatever the lights' spectra.
+                        LightTally pooled;
+                        for (const uint32_t l : touched) {
+                            pooled.segments += tally[l].segments;
+                            pooled.open += tally[l].open;
+                        }
+                        const double otherwise = openFraction(pooled);
+                        std::fill(spectrumWeight.begin(), spectrumWeight.end(), 0.0);
+                        for (std::size_t l = 0; l < lights.size() && drawn > 0; ++l) {
+                            if (!(factor[l] > 0)) continue;
+                            const double v =
+                                tally[l].segments > 0 ? openFraction(tally[l]) : otherwise;
+                            spectrumWeight[lights[l].spectrum] += double(factor[l]) * v;
+                        }
+                        for (std::size_t e = 0; e < spectra.size(); ++e) {
+                            if (!(spectrumWeight[e] > 0)) continue;
+                            for (std::size_t w = 0; w < m; ++w)
+                                irradiance[w] += spectra[e][w] * spectrumWeight[e];
+                        }
+                    } else {
+                        // Importance sampling over the lights: the n_l segments drawn to l
+                        // estimate E_l F_l / p_l each (p_l = F_l P_l / total), n_l E_l total /
+                        // (P_l k), F_l over the stand-in's weight, times V_l.
+                        for (const uint32_t l : touched) {
+                            const Light& light = lights[l];
+                            const double ratio =
+                                double(shared::pointToTriangleFactor(xf, nf, light.geometry)) /
+                                double(factor[l]);
+                            const double scale = ratio * total * tally[l].segments *
+                                openFraction(tally[l]) / (light.power * k);
+                            if (!(scale > 0)) continue;
+                            for (std::size_t w = 0; w < m; ++w)
+                                irradiance[w] += light.emission[w] * scale;
+                        }
+                    }
+                    for (const uint32_t l : touched)
+                        tally[l] = {};
                     applyOperator(op, irradiance.data(), reflected.data());
                     for (double& v : reflected)
                         v /= kPi;
@@ -367,12 +504,29 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                         sum[v] += sampleValues[v];
                 }
                 float* out = image.at(x, y);
-                for (int ch = 0; ch < channels; ++ch)
-                    out[ch] = static_cast<float>(sum[std::size_t(ch)] / samples);
+                if (selected.empty()) {
+                    for (int ch = 0; ch < channels; ++ch)
+                        out[ch] = static_cast<float>(sum[std::size_t(ch)] / samples);
+                    marks[std::size_t(y) * settings.width + x] = mark;
+                } else {
+                    // Weighted by segments: 1 share from pass 1, rayFactor shares from this.
+                    const double w = double(pass.rayFactor) / (pass.rayFactor + 1);
+                    for (int ch = 0; ch < channels; ++ch)
+                        out[ch] = static_cast<float>((1 - w) * out[ch] +
+                                                     w * sum[std::size_t(ch)] / samples);
+                }
             }
         }
     };
-    forEachImageRow(settings.height, settings.threads, renderRows);
+    forEachImageRow(settings.height, settings.threads, [&](const tbb::blocked_range<int>& rows) {
+        renderRows(rows, {1, imageSeed});
+    });
+    selected = penumbraNeighbours(marks, settings.width, settings.height);
+    if (std::find(selected.begin(), selected.end(), 1) != selected.end()) {
+        const Pass refine{penumbraFactor - 1, shared::pcgHash(imageSeed ^ 0x9e3779b9u)};
+        forEachImageRow(settings.height, settings.threads,
+                        [&](const tbb::blocked_range<int>& rows) { renderRows(rows, refine); });
+    }
     return image;
 }
 

@@ -9,16 +9,34 @@
 //          + M_i H(x) / pi,   H(x) = sum_{lights l} E_l F(x -> l) V(x, l),
 // F(x -> l) the exact point-to-triangle factor of each emitting source triangle (Lambert's
 // contour formula, shared/formfactor.h, clipped to x's front half-space) and V(x, l) the
-// visibility, estimated by K shadow segments per sample drawn over the lights in proportion to
-// F(x -> l) times l's power (stratified over that distribution: a scene of two light triangles
-// gives each K / 2, the black-light tubes' 20 lights get them by contribution) to stratified
-// points on the chosen triangle. The lights are the emitting source triangles with each flat
-// convex face of one emission merged into a fan over its outline (image/emitter_lights.h: the
-// tubes' 176 triangles are 20 lights), which changes no factor. Unbiased for sum E F V; exact where
-// every segment is open. Over 32 light triangles the draw uses a cheap point-source stand-in for F
-// and each drawn segment carries its light's exact F over that stand-in (importance sampling; still
-// unbiased, no longer exact where unoccluded). Deterministic: the points come from a hash of (seed,
-// pixel, sample, light), so the image has no noise from run to run.
+// visibility. The lights are the emitting source triangles with each flat convex face of one
+// emission merged into a fan over its outline (image/emitter_lights.h: the tubes' 176 triangles
+// are 20 lights), which changes no factor.
+//
+// V from k shadow segments per sample, drawn over the lights in proportion to F(x -> l) times l's
+// power (stratified over that distribution: a scene of two light triangles gives each k / 2, the
+// black-light tubes' 20 lights get them by contribution) to stratified points on the chosen
+// triangle. The segments to l give V_l = sum G open / sum G, G = cos_x cos_l / r^2 at each
+// point: the points are uniform in area, the visible share weighs them by the kernel (a ratio
+// estimator: consistent, exact when all are open or all blocked; an area-weighted fraction was
+// 2% bright under a large half-hidden source, tests/render/final_gather_test.cpp).
+// - Up to 32 lights every F_l is exact (SIMD lanes, radiosity/hybrid_far_field.h) and
+//   H = sum_l E_l F_l V_l, a light that drew no segment taking the pooled open fraction of the
+//   sample's segments: exact wherever every segment is open, or every one blocked, whatever the
+//   lights' spectra.
+// - Over 32, the draw uses a cheap point-source stand-in for F and each light's segments carry
+//   its exact F over that stand-in (importance sampling, not exact where unoccluded).
+//
+// Penumbra refinement: the variance is where a light is partly hidden, so a first pass takes
+// K / 16 segments a pixel (K / 4 over 32 lights, where unoccluded pixels vary too) and marks,
+// per light, whether its segments were open or blocked; a second pass gives each pixel whose 8
+// neighbours' marks hold both for one light the other 15 K / 16 (3 K / 4), with fresh points, and
+// averages the passes by segment count. A pixel's own marks never select it, so its first-pass
+// value is independent of its selection. On the Cornell box this and the kernel weighting take
+// the error against the path tracer from 2.05% to 1.56% (colored_lights 3.01% to 2.22%) for a
+// few tenths of a second (docs/performance.md, "Issue 16 (session 5)"). Deterministic: the
+// points come from a hash of (seed, pass, pixel, sample, light), so the image has no noise from
+// run to run.
 #include <cstdint>
 #include <span>
 #include <string>
@@ -37,9 +55,10 @@
 namespace daisy {
 
 struct DirectLightSettings {
-    // K shadow segments per pixel over all lights, shared out over the pixel's samples
-    // (ceil(K / samples) each, at least 1)
-    int shadowRays = 16;
+    // K shadow segments per penumbra pixel over all lights; every other pixel takes
+    // max(1, K / 16) (K / 4 over 32 lights). Shared out over the pixel's samples
+    // (ceil(count / samples) each, at least 1).
+    int shadowRays = 64;
     uint32_t seed = 1;
 };
 
