@@ -9,6 +9,7 @@
 
 #include "core/check.h"
 #include "image/patch_exposure.h"
+#include "radiosity/hybrid_far_field.h"
 #include "shared/formfactor.h"
 
 namespace daisy {
@@ -135,7 +136,8 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const auto& range) {
         std::vector<std::pair<float, uint32_t>> candidates;
         std::array<shared::vec3, kNodes> x{};
-        std::array<float, kNodes> factor{};
+        FarFieldScratch batch;  // the candidates' node factors, in SIMD lanes
+        std::vector<float> factors;
         std::vector<double> sums(kNodes * stride);
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const double phi = field.exposed_[i];
@@ -175,12 +177,21 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
             }
             const uint16_t mask = exposure.exposedPoints[i];
             std::fill(sums.begin(), sums.end(), 0.0);
-            for (const auto& [distance, e] : candidates) {
-                const uint32_t j = columns[e];
+            // shared::pointToTriangleFactor(x_k, n_i, j) for every candidate j and node k, in
+            // one batch (bit-identical, radiosity/hybrid_far_field.h).
+            batch.points.clear();
+            for (const auto& candidate : candidates) {
                 for (int k = 0; k < kNodes; ++k)
-                    factor[std::size_t(k)] =
-                        shared::pointToTriangleFactor(x[std::size_t(k)], gi.normal, geometry[j]);
-                const double unoccluded = exposedMean(factor.data(), 1, mask);
+                    batch.points.push_back(
+                        {x[std::size_t(k)], &gi, &geometry[columns[candidate.second]]});
+            }
+            factors.resize(batch.points.size());
+            pointToTriangleFactors(batch, factors.data());
+            for (std::size_t c = 0; c < candidates.size(); ++c) {
+                const uint32_t e = candidates[c].second;
+                const uint32_t j = columns[e];
+                const float* factor = factors.data() + c * kNodes;
+                const double unoccluded = exposedMean(factor, 1, mask);
                 if (!(unoccluded > 0)) continue;
                 // F_ij of the exposed part over its unoccluded mean: the pair's visibility;
                 // within 5% of 1 it is the rule's error, and 1.
@@ -188,7 +199,7 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
                 if (visibility > 0.95) visibility = 1;
                 for (int k = 0; k < kNodes; ++k) {
                     const double w = field.windowWeight(length(x[std::size_t(k)] - centroids[j])) *
-                        visibility * factor[std::size_t(k)];
+                        visibility * factor[k];
                     double* node = sums.data() + std::size_t(k) * stride;
                     for (std::size_t l = 0; l < m; ++l)
                         node[l] += w * reflected[j * m + l];
