@@ -137,17 +137,190 @@ float approximateFactor(const shared::PatchGeometry& t, shared::vec3 x, shared::
     return base * (cosX * cosT + 1e-3f);
 }
 
-// How many times the segments of the other pixels a penumbra pixel takes (final_gather.h): 16
-// where each light's exact factor weighs the draw (open segments then estimate exactly), 4 where
-// the cheap stand-in does (each open segment carries its own ratio, so every pixel needs some).
-constexpr int kPenumbraFactorExact = 16;
-constexpr int kPenumbraFactorApproximate = 4;
-
 // A pixel's shadow marks: for light l, bit 2 (l mod 32) when one of its segments to l was open,
 // the next bit when one was blocked.
 uint64_t shadowMark(uint32_t light, bool open) {
     return uint64_t(open ? 1 : 2) << (2 * (light % 32));
 }
+
+// One thread's estimate of H(x) = sum_l E_l F(x -> l) V(x, l) over the lights, sample by sample
+// (final_gather.h): the draw of k shadow segments over the lights' distribution, their points,
+// the rays and the per-light kernel-weighted visibility.
+class LightSampler {
+public:
+    LightSampler(const std::vector<Light>& lights, const std::vector<const double*>& spectra,
+                 std::size_t wavelengths, bool exactWeights, const EmbreeRayCaster& tracer,
+                 int maxSegments)
+        : lights_(lights),
+          spectra_(spectra),
+          m_(wavelengths),
+          exactWeights_(exactWeights),
+          tracer_(tracer),
+          blocked_(std::size_t(maxSegments)),
+          chosen_(blocked_.size()),
+          kernel_(blocked_.size()),
+          factor_(lights.size()),
+          cdf_(lights.size()),
+          picks_(lights.size()),
+          tally_(lights.size()),
+          spectrumWeight_(spectra.size()) {
+        segments_.resize(blocked_.size());
+        for (const Light& light : lights)
+            batch_.points.push_back({{}, &receiver_, &light.geometry});
+    }
+
+    // A new pixel: each light's points start its stratified stream again, and the approximate
+    // weights are made anew.
+    void beginPixel() {
+        std::fill(picks_.begin(), picks_.end(), 0);
+        weightsPatch_ = kNoPatch;
+        total_ = 0;
+    }
+
+    // Adds H(x) (m values) for sample s of the pixel at point x (normal n) on `patch`: k
+    // segments, strata permute(s k + q) of the pixel's `strata`. Returns the sample's shadow
+    // marks (shadowMark).
+    uint64_t addIrradiance(shared::vec3 x, shared::vec3 n, uint32_t patch, int s, int k, int strata,
+                           uint32_t pixelSeed, uint32_t sampleSeed, std::span<double> irradiance) {
+        // With approximate weights, the samples of one pixel on one patch share the
+        // distribution of the first of them (a fraction of a pixel away: still importance
+        // sampling, each segment weighted by the exact factor over the shared weight), so a
+        // supersampled edge pixel costs a few light loops, not one per sample.
+        if (!lights_.empty() && (exactWeights_ || patch != weightsPatch_)) weigh(x, n, patch);
+        const int drawn = total_ > 0 ? k : 0;
+        if (drawn == 0) return 0;
+        segments_.resize(std::size_t(drawn));
+        for (int q = 0; q < drawn; ++q) {
+            const uint32_t stratum =
+                shared::permuteIndex(uint32_t(s * k + q), uint32_t(strata), pixelSeed);
+            const double u = (stratum + double(shared::hashToUnitFloat(uint32_t(q), sampleSeed))) /
+                strata * total_;
+            const std::size_t l = std::min<std::size_t>(
+                std::size_t(std::upper_bound(cdf_.begin(), cdf_.end(), u) - cdf_.begin()),
+                lights_.size() - 1);
+            chosen_[std::size_t(q)] = uint32_t(l);
+            const shared::vec3 e =
+                pointInFront(lights_[l].geometry, x, n, shared::streamSeed(pixelSeed, uint32_t(l)),
+                             picks_[l]++, strata);
+            // Stop short of the light by kLightClearance of the distance, so a surface the
+            // light lies on (a lamp face on its stand) does not block.
+            const shared::vec3 end = e + (x - e) * kLightClearance;
+            segments_.set(std::size_t(q), x.x, x.y, x.z, end.x, end.y, end.z);
+            kernel_[std::size_t(q)] = pointKernel(x, n, lights_[l].geometry.normal, e);
+        }
+        tracer_.occluded(segments_, std::span<uint8_t>(blocked_.data(), std::size_t(drawn)));
+        uint64_t mark = 0;
+        touched_.clear();
+        for (int q = 0; q < drawn; ++q) {
+            const uint32_t l = chosen_[std::size_t(q)];
+            const bool open = !blocked_[std::size_t(q)];
+            LightTally& t = tally_[l];
+            if (t.segments++ == 0) touched_.push_back(l);
+            t.kernel += kernel_[std::size_t(q)];
+            t.openKernel += open ? kernel_[std::size_t(q)] : 0.0;
+            t.open += open ? 1 : 0;
+            mark |= shadowMark(l, open);
+        }
+        if (exactWeights_)
+            addExact(irradiance);
+        else
+            addImportanceSampled(x, n, k, irradiance);
+        for (const uint32_t l : touched_)
+            tally_[l] = {};
+        return mark;
+    }
+
+private:
+    // V_l: the kernel-weighted open fraction sum G open / sum G of the segments drawn to l (the
+    // points are uniform in area, V weighs them by G: a ratio estimator, consistent, exact when
+    // all are open or all blocked).
+    static double openFraction(const LightTally& t) {
+        return t.kernel > 0 ? t.openKernel / t.kernel : double(t.open) / std::max(1, t.segments);
+    }
+
+    // The distribution the segments are drawn from: each light's factor (exact, in SIMD lanes,
+    // or the stand-in) times its power, and its CDF.
+    void weigh(shared::vec3 x, shared::vec3 n, uint32_t patch) {
+        if (exactWeights_) {
+            receiver_.normal = n;
+            for (auto& point : batch_.points)
+                point.position = x;
+            pointToTriangleFactors(batch_, factor_.data());
+        }
+        total_ = 0;
+        for (std::size_t l = 0; l < lights_.size(); ++l) {
+            if (!exactWeights_) factor_[l] = approximateFactor(lights_[l].geometry, x, n);
+            total_ += factor_[l] > 0 ? double(factor_[l]) * lights_[l].power : 0.0;
+            cdf_[l] = total_;
+        }
+        weightsPatch_ = patch;
+    }
+
+    // Every light's F_l is known: H = sum_l E_l F_l V_l, a light that drew no segment taking the
+    // pooled open fraction of those that did. Exact wherever every segment is open (or every
+    // one blocked), whatever the lights' spectra. Summed per distinct spectrum.
+    void addExact(std::span<double> irradiance) {
+        LightTally pooled;
+        for (const uint32_t l : touched_) {
+            pooled.segments += tally_[l].segments;
+            pooled.open += tally_[l].open;
+        }
+        const double otherwise = openFraction(pooled);
+        std::fill(spectrumWeight_.begin(), spectrumWeight_.end(), 0.0);
+        for (std::size_t l = 0; l < lights_.size(); ++l) {
+            if (!(factor_[l] > 0)) continue;
+            const double v = tally_[l].segments > 0 ? openFraction(tally_[l]) : otherwise;
+            spectrumWeight_[lights_[l].spectrum] += double(factor_[l]) * v;
+        }
+        for (std::size_t e = 0; e < spectra_.size(); ++e) {
+            if (!(spectrumWeight_[e] > 0)) continue;
+            for (std::size_t w = 0; w < m_; ++w)
+                irradiance[w] += spectra_[e][w] * spectrumWeight_[e];
+        }
+    }
+
+    // Importance sampling over the lights: the n_l segments drawn to l estimate E_l F_l / p_l
+    // each (p_l = F_l P_l / total): n_l E_l total / (P_l k), F_l over the stand-in's weight,
+    // times V_l.
+    void addImportanceSampled(shared::vec3 x, shared::vec3 n, int k, std::span<double> irradiance) {
+        for (const uint32_t l : touched_) {
+            const Light& light = lights_[l];
+            const double ratio =
+                double(shared::pointToTriangleFactor(x, n, light.geometry)) / double(factor_[l]);
+            const double scale =
+                ratio * total_ * tally_[l].segments * openFraction(tally_[l]) / (light.power * k);
+            if (!(scale > 0)) continue;
+            for (std::size_t w = 0; w < m_; ++w)
+                irradiance[w] += light.emission[w] * scale;
+        }
+    }
+
+    const std::vector<Light>& lights_;
+    const std::vector<const double*>& spectra_;  // the emission of each Light::spectrum
+    std::size_t m_;
+    bool exactWeights_;
+    const EmbreeRayCaster& tracer_;
+    SegmentArrays segments_;
+    std::vector<uint8_t> blocked_;
+    std::vector<uint32_t> chosen_;  // per segment: its light
+    std::vector<float> kernel_;  // per segment: pointKernel
+    std::vector<float> factor_;  // per light: the draw's factor (exact or the stand-in)
+    std::vector<double> cdf_;
+    std::vector<int> picks_;  // per light: points taken from its stream in this pixel
+    std::vector<LightTally> tally_;
+    std::vector<uint32_t> touched_;  // the lights this sample drew
+    std::vector<double> spectrumWeight_;
+    shared::PatchGeometry receiver_{};  // the batch's receiver: only its normal is read
+    FarFieldScratch batch_;  // the lights as points of one factor batch (hybrid_far_field.h)
+    uint32_t weightsPatch_ = kNoPatch;  // the patch factor_ and cdf_ were made for
+    double total_ = 0;
+};
+
+// How many times the segments of the other pixels a penumbra pixel takes (final_gather.h): 16
+// where each light's exact factor weighs the draw (open segments then estimate exactly), 4 where
+// the cheap stand-in does (each open segment carries its own ratio, so every pixel needs some).
+constexpr int kPenumbraFactorExact = 16;
+constexpr int kPenumbraFactorApproximate = 4;
 
 // Per pixel, 1 where the marks of its 8 neighbours (not the pixel's own) hold both an open and a
 // blocked segment to one light: a penumbra, or a shadow's edge, passes next to it.
@@ -305,23 +478,7 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
         };
         std::vector<Ray> rays(rowSamples);
         std::vector<SurfaceHit> hits(rowSamples);
-        SegmentArrays segments;
-        segments.resize(std::size_t(maxK * pass.rayFactor));
-        std::vector<uint8_t> blocked(segments.size());
-        std::vector<float> factor(lights.size());
-        std::vector<double> cdf(lights.size());
-        std::vector<int> picks(lights.size());
-        std::vector<uint32_t> chosen(segments.size());
-        std::vector<float> kernel(segments.size());
-        std::vector<LightTally> tally(lights.size());
-        std::vector<double> spectrumWeight(spectra.size());
-        // The lights as points of a factor batch (radiosity/hybrid_far_field.h): one receiver
-        // whose normal and position each sample sets.
-        shared::PatchGeometry receiver{};
-        FarFieldScratch lightScratch;
-        for (const Light& light : lights)
-            lightScratch.points.push_back({{}, &receiver, &light.geometry});
-        std::vector<uint32_t> touched;
+        LightSampler sampler(lights, spectra, m, exactWeights, tracer, maxK * pass.rayFactor);
         std::vector<double> irradiance(m), reflected(m), sum(static_cast<std::size_t>(channels));
         std::vector<double> sampleValues(std::size_t(xyzChannel) + 3);
         for (int y = rows.begin(); y != rows.end(); ++y) {
@@ -358,10 +515,8 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                 const uint32_t pixelSeed = shared::pcgHash(
                     pass.seed ^
                     shared::pcgHash(uint32_t(y) * uint32_t(settings.width) + uint32_t(x)));
-                std::fill(picks.begin(), picks.end(), 0);
+                sampler.beginPixel();
                 const int strata = samples * k;
-                uint32_t weightsPatch = kNoPatch;  // the patch factor and cdf were made for
-                double total = 0;
                 for (int s = 0; s < samples; ++s, ++r) {
                     const SurfaceHit& hit = hits[r];
                     if (hit.patch == kNoPatch) continue;
@@ -376,120 +531,16 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                         patches.positions[c[1]] * double(hit.u) +
                         patches.positions[c[2]] * double(hit.v);
                     const shared::vec3 xf = toVec3(px), nf = toVec3(n);
-                    // Unoccluded factors, weighted by each light's power: the distribution
-                    // the k shadow segments are drawn from (stratified over its CDF).
                     const uint32_t sampleSeed = shared::pcgHash(
                         pass.seed ^
                         shared::pcgHash((uint32_t(y) * uint32_t(settings.width) + uint32_t(x)) *
                                             uint32_t(samples) +
                                         uint32_t(s)));
-                    // With approximate weights, the samples of one pixel on one patch share
-                    // the distribution of the first of them (a fraction of a pixel away: still
-                    // importance sampling, each segment weighted by the exact factor over the
-                    // shared weight), so a supersampled edge pixel costs a few light loops,
-                    // not one per sample.
-                    if (!lights.empty() && (exactWeights || p != weightsPatch)) {
-                        total = 0;
-                        if (exactWeights) {  // every light's exact factor, in SIMD lanes
-                            receiver.normal = nf;
-                            for (std::size_t l = 0; l < lights.size(); ++l)
-                                lightScratch.points[l].position = xf;
-                            pointToTriangleFactors(lightScratch, factor.data());
-                        }
-                        for (std::size_t l = 0; l < lights.size(); ++l) {
-                            if (!exactWeights)
-                                factor[l] = approximateFactor(lights[l].geometry, xf, nf);
-                            total += factor[l] > 0 ? double(factor[l]) * lights[l].power : 0.0;
-                            cdf[l] = total;
-                        }
-                        weightsPatch = p;
-                    }
                     std::fill(irradiance.begin(), irradiance.end(), 0.0);
                     const double covered =
                         gatherNear ? nearField->addIrradiance(p, hit.u, hit.v, irradiance) : 0.0;
-                    const int drawn = total > 0 ? k : 0;
-                    segments.resize(std::size_t(drawn));
-                    for (int q = 0; q < drawn; ++q) {
-                        const uint32_t stratum =
-                            shared::permuteIndex(uint32_t(s * k + q), uint32_t(strata), pixelSeed);
-                        const double u =
-                            (stratum + double(shared::hashToUnitFloat(uint32_t(q), sampleSeed))) /
-                            strata * total;
-                        const std::size_t l = std::min<std::size_t>(
-                            std::size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()),
-                            lights.size() - 1);
-                        chosen[std::size_t(q)] = uint32_t(l);
-                        const shared::vec3 e = pointInFront(
-                            lights[l].geometry, xf, nf, shared::streamSeed(pixelSeed, uint32_t(l)),
-                            picks[l]++, strata);
-                        // Stop short of the light by kLightClearance of the distance, so a
-                        // surface the light lies on (a lamp face on its stand) does not block.
-                        const shared::vec3 end = e + (xf - e) * kLightClearance;
-                        segments.set(std::size_t(q), xf.x, xf.y, xf.z, end.x, end.y, end.z);
-                        kernel[std::size_t(q)] = pointKernel(xf, nf, lights[l].geometry.normal, e);
-                    }
-                    if (drawn > 0)
-                        tracer.occluded(segments,
-                                        std::span<uint8_t>(blocked.data(), std::size_t(drawn)));
-                    touched.clear();
-                    for (int q = 0; q < drawn; ++q) {
-                        const uint32_t l = chosen[std::size_t(q)];
-                        const bool open = !blocked[std::size_t(q)];
-                        LightTally& t = tally[l];
-                        if (t.segments++ == 0) touched.push_back(l);
-                        t.kernel += kernel[std::size_t(q)];
-                        t.openKernel += open ? kernel[std::size_t(q)] : 0.0;
-                        t.open += open ? 1 : 0;
-                        mark |= shadowMark(l, open);
-                    }
-                    // H = sum_l E_l F_l V_l, V_l from the segments drawn to l: the
-                    // kernel-weighted open fraction sum G open / sum G (the points are uniform
-                    // in area; V weighs them by G: a ratio estimator, consistent, exact when all
-                    // are open or all blocked).
-                    const auto openFraction = [](const LightTally& t) {
-                        return t.kernel > 0 ? t.openKernel / t.kernel
-                                            : double(t.open) / std::max(1, t.segments);
-                    };
-                    if (exactWeights) {
-                        // Every light's F_l is known: each takes its own V_l, a light that drew
-                        // no segment the pooled one of those that did. Exact wherever every
-                        // segment is open (or every one blocked), whatever the lights' spectra.
-                        LightTally pooled;
-                        for (const uint32_t l : touched) {
-                            pooled.segments += tally[l].segments;
-                            pooled.open += tally[l].open;
-                        }
-                        const double otherwise = openFraction(pooled);
-                        std::fill(spectrumWeight.begin(), spectrumWeight.end(), 0.0);
-                        for (std::size_t l = 0; l < lights.size() && drawn > 0; ++l) {
-                            if (!(factor[l] > 0)) continue;
-                            const double v =
-                                tally[l].segments > 0 ? openFraction(tally[l]) : otherwise;
-                            spectrumWeight[lights[l].spectrum] += double(factor[l]) * v;
-                        }
-                        for (std::size_t e = 0; e < spectra.size(); ++e) {
-                            if (!(spectrumWeight[e] > 0)) continue;
-                            for (std::size_t w = 0; w < m; ++w)
-                                irradiance[w] += spectra[e][w] * spectrumWeight[e];
-                        }
-                    } else {
-                        // Importance sampling over the lights: the n_l segments drawn to l
-                        // estimate E_l F_l / p_l each (p_l = F_l P_l / total), n_l E_l total /
-                        // (P_l k), F_l over the stand-in's weight, times V_l.
-                        for (const uint32_t l : touched) {
-                            const Light& light = lights[l];
-                            const double ratio =
-                                double(shared::pointToTriangleFactor(xf, nf, light.geometry)) /
-                                double(factor[l]);
-                            const double scale = ratio * total * tally[l].segments *
-                                openFraction(tally[l]) / (light.power * k);
-                            if (!(scale > 0)) continue;
-                            for (std::size_t w = 0; w < m; ++w)
-                                irradiance[w] += light.emission[w] * scale;
-                        }
-                    }
-                    for (const uint32_t l : touched)
-                        tally[l] = {};
+                    mark |= sampler.addIrradiance(xf, nf, p, s, k, strata, pixelSeed, sampleSeed,
+                                                  irradiance);
                     applyOperator(op, irradiance.data(), reflected.data());
                     for (double& v : reflected)
                         v /= kPi;

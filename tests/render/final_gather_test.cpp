@@ -259,5 +259,58 @@ TEST(FinalGather, PenumbraPixelsTakeTheFullSegmentCountWithoutBias) {
     EXPECT_NEAR(sum / sumExact, 1.0, 3 * rms / std::sqrt(double(pixels)));
 }
 
+// Over 32 lights the draw's weights are a cheap stand-in and each segment carries its light's
+// exact factor over it (importance sampling): not exact even where nothing is hidden, but
+// unbiased. 36 small source squares (72 light triangles) over the receiver, nothing between:
+// each pixel must be the closed form sum_l rho F(p -> l) / pi within the estimate's spread
+// (K / 4 = 16 segments over 72 lights; measured 0.12% rms, not 0), and the mean over the
+// receiver within 0.2% of it (measured 0.02%).
+TEST(FinalGather, ManyLightsAreImportanceSampledWithoutBias) {
+    Plates p;
+    p.scene.path = "many lights";
+    verify::addQuad(p.scene.mesh, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, 0);
+    std::vector<std::vector<Vec3d>> sources;
+    for (int a = 0; a < 6; ++a) {
+        for (int b = 0; b < 6; ++b) {
+            const double x0 = (a + 0.25) / 6, x1 = (a + 0.75) / 6;
+            const double y0 = (b + 0.25) / 6, y1 = (b + 0.75) / 6;
+            sources.push_back({{x0, y0, 1}, {x0, y1, 1}, {x1, y1, 1}, {x1, y0, 1}});
+            verify::addQuad(p.scene.mesh, sources.back()[0], sources.back()[1], sources.back()[2],
+                            sources.back()[3], 1);
+        }
+    }
+    p.scene.materials = {flat(0.5, 0), flat(0, 1)};
+    p.camera = plates().camera;
+    Session session = solvedSession(p);
+    RenderSettings settings;
+    settings.width = 48;
+    settings.height = 36;
+    auto lit = renderDirectLight(session.scene(), session.patches(), session.system(),
+                                 session.wavelengths(), p.camera, settings, {}, false);
+    ASSERT_TRUE(lit.ok()) << lit.error().message;
+    const double yWeight = session.wavelengths().xyzWeights(0)[1];
+    double squares = 0, sum = 0, sumExact = 0;
+    int pixels = 0;
+    for (int y = 0; y < settings.height; ++y) {
+        for (int x = 0; x < settings.width; ++x) {
+            Vec3d point;
+            if (!receiverPoint(p.camera, settings.width, settings.height, x, y, point)) continue;
+            double exact = 0;
+            for (const auto& source : sources)
+                exact += 0.5 * verify::pointToPolygon(point, {0, 0, 1}, source) / kPi;
+            const double value = lit->at(x, y)[1] / yWeight;
+            squares += (value - exact) * (value - exact) / (exact * exact);
+            sum += value;
+            sumExact += exact;
+            ++pixels;
+        }
+    }
+    ASSERT_GT(pixels, 60);
+    const double rms = std::sqrt(squares / pixels);
+    EXPECT_LT(rms, 0.01);
+    EXPECT_GT(rms, 0.0);  // not exact: the stand-in's weights are in play
+    EXPECT_NEAR(sum / sumExact, 1.0, 0.002);
+}
+
 }  // namespace
 }  // namespace daisy
