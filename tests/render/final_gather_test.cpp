@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <numbers>
 #include <utility>
 #include <vector>
@@ -85,6 +86,37 @@ bool receiverPoint(const Camera& camera, int width, int height, int x, int y, Ve
     }
     point = onReceiverPlane(camera, width, height, x + 0.5, y + 0.5);
     return true;
+}
+
+// A receiver image's error against a closed form per pixel (at the pixel centre's receiver
+// point, pixels wholly on the receiver): relative RMS, and the ratio of the means.
+struct ReceiverError {
+    double rms = 0, meanRatio = 0;
+    int pixels = 0;
+};
+
+ReceiverError receiverError(const Session& session, const Camera& camera, const Image& image,
+                            const std::function<double(const Vec3d&)>& exact) {
+    const double yWeight = session.wavelengths().xyzWeights(0)[1];
+    double squares = 0, sum = 0, sumExact = 0;
+    ReceiverError error;
+    for (int y = 0; y < image.height; ++y) {
+        for (int x = 0; x < image.width; ++x) {
+            Vec3d point;
+            if (!receiverPoint(camera, image.width, image.height, x, y, point)) continue;
+            const double want = exact(point);
+            const double value = image.at(x, y)[1] / yWeight;
+            squares += (value - want) * (value - want) / (want * want);
+            sum += value;
+            sumExact += want;
+            ++error.pixels;
+        }
+    }
+    if (error.pixels > 0) {
+        error.rms = std::sqrt(squares / error.pixels);
+        error.meanRatio = sum / sumExact;
+    }
+    return error;
 }
 
 TEST(FinalGather, ParallelPlatesMatchThePointToPolygonClosedForm) {
@@ -236,27 +268,15 @@ TEST(FinalGather, PenumbraPixelsTakeTheFullSegmentCountWithoutBias) {
     auto lit = renderDirectLight(session.scene(), session.patches(), session.system(),
                                  session.wavelengths(), p.camera, settings, direct, false);
     ASSERT_TRUE(lit.ok()) << lit.error().message;
-    const double yWeight = session.wavelengths().xyzWeights(0)[1];
-    double squares = 0, sum = 0, sumExact = 0;
-    int pixels = 0;
-    for (int y = 0; y < settings.height; ++y) {
-        for (int x = 0; x < settings.width; ++x) {
-            Vec3d point;
-            if (!receiverPoint(p.camera, settings.width, settings.height, x, y, point)) continue;
-            const double x0 = std::clamp(point.x + (0.5 - point.x) / kHeight, 0.0, 1.0);
-            const std::vector<Vec3d> open = {{x0, 0, 1}, {x0, 1, 1}, {1, 1, 1}, {1, 0, 1}};
-            const double exact = 0.5 * verify::pointToPolygon(point, {0, 0, 1}, open) / kPi;
-            const double value = lit->at(x, y)[1] / yWeight;
-            squares += (value - exact) * (value - exact) / (exact * exact);
-            sum += value;
-            sumExact += exact;
-            ++pixels;
-        }
-    }
-    ASSERT_GT(pixels, 60);
-    const double rms = std::sqrt(squares / pixels);
+    const ReceiverError error = receiverError(session, p.camera, *lit, [](const Vec3d& point) {
+        const double x0 = std::clamp(point.x + (0.5 - point.x) / kHeight, 0.0, 1.0);
+        const std::vector<Vec3d> open = {{x0, 0, 1}, {x0, 1, 1}, {1, 1, 1}, {1, 0, 1}};
+        return 0.5 * verify::pointToPolygon(point, {0, 0, 1}, open) / kPi;
+    });
+    ASSERT_GT(error.pixels, 60);
+    const double rms = error.rms;
     EXPECT_LT(rms, 0.1);
-    EXPECT_NEAR(sum / sumExact, 1.0, 3 * rms / std::sqrt(double(pixels)));
+    EXPECT_NEAR(error.meanRatio, 1.0, 3 * rms / std::sqrt(double(error.pixels)));
 }
 
 // Over 32 lights the draw's weights are a cheap stand-in and each segment carries its light's
@@ -288,28 +308,17 @@ TEST(FinalGather, ManyLightsAreImportanceSampledWithoutBias) {
     auto lit = renderDirectLight(session.scene(), session.patches(), session.system(),
                                  session.wavelengths(), p.camera, settings, {}, false);
     ASSERT_TRUE(lit.ok()) << lit.error().message;
-    const double yWeight = session.wavelengths().xyzWeights(0)[1];
-    double squares = 0, sum = 0, sumExact = 0;
-    int pixels = 0;
-    for (int y = 0; y < settings.height; ++y) {
-        for (int x = 0; x < settings.width; ++x) {
-            Vec3d point;
-            if (!receiverPoint(p.camera, settings.width, settings.height, x, y, point)) continue;
-            double exact = 0;
-            for (const auto& source : sources)
-                exact += 0.5 * verify::pointToPolygon(point, {0, 0, 1}, source) / kPi;
-            const double value = lit->at(x, y)[1] / yWeight;
-            squares += (value - exact) * (value - exact) / (exact * exact);
-            sum += value;
-            sumExact += exact;
-            ++pixels;
-        }
-    }
-    ASSERT_GT(pixels, 60);
-    const double rms = std::sqrt(squares / pixels);
+    const ReceiverError error = receiverError(session, p.camera, *lit, [&](const Vec3d& point) {
+        double exact = 0;
+        for (const auto& source : sources)
+            exact += 0.5 * verify::pointToPolygon(point, {0, 0, 1}, source) / kPi;
+        return exact;
+    });
+    ASSERT_GT(error.pixels, 60);
+    const double rms = error.rms;
     EXPECT_LT(rms, 0.01);
     EXPECT_GT(rms, 0.0);  // not exact: the stand-in's weights are in play
-    EXPECT_NEAR(sum / sumExact, 1.0, 0.002);
+    EXPECT_NEAR(error.meanRatio, 1.0, 0.002);
 }
 
 }  // namespace
