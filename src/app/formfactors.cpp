@@ -53,8 +53,13 @@ void printVerboseStats(const FormFactorStats& s) {
         logVerbose(concat("  cost model off: culled all ", formatCount(s.culledClusterPairs),
                           " cluster pairs"));
     }
+    if (s.rowsCapped > 0) {
+        logVerbose(concat("  conservation: ", formatCount(s.rowsCapped),
+                          " rows summed over 1 (the largest ", formatNumber(s.largestRowSum, 5),
+                          ", sampled visibility) and were scaled to 1, reciprocity kept"));
+    }
     logVerbose(concat("  time: candidates ", formatDuration(s.countSeconds), ", pairs ",
-                      formatDuration(s.pairSeconds), ", compaction ",
+                      formatDuration(s.pairSeconds), ", compaction and conservation ",
                       formatDuration(s.compactSeconds), "; peak work memory ",
                       formatBytes(static_cast<double>(s.workBytes)), " for ", formatCount(s.slots),
                       " slots"));

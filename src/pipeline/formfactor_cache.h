@@ -20,7 +20,8 @@ namespace daisy {
 
 // Bump when the key's byte stream, the file layout or FormFactorStats' field meaning changes:
 // older entries then miss (different key) or are rejected (different version in the header).
-inline constexpr uint32_t kFormFactorCacheVersion = 2;  // 2: per-pair end clearance (issue 18)
+// 2: per-pair end clearance (issue 18); 3: kernel-weighted visibility (issue 18).
+inline constexpr uint32_t kFormFactorCacheVersion = 3;
 
 // 128-bit key of exactly what F depends on, and nothing else.
 struct FormFactorKey {

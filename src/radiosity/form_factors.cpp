@@ -920,6 +920,11 @@ Expected<FormFactorResult> PairLoop::run() {
     candidates_.words = {};
     columnBase_ = {};
     dropZeros(matrix_);
+    if (settings_.raysPerPair > 0) {
+        const RowSumCap cap = capRowSums(matrix_);
+        stats_.rowsCapped = cap.rowsCapped;
+        stats_.largestRowSum = cap.largestRowSum;
+    }
     stats_.compactSeconds = secondsSince(compactStart);
     stats_.nonzeros = matrix_.nonzeroCount();
     stats_.totalSeconds = secondsSince(start);

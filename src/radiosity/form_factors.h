@@ -94,12 +94,16 @@ struct FormFactorStats {
     double costCullScale = 1;
     double costRayScale = 1;  // measured ray cost in the pair loop over the calibrated
     uint64_t costGateClosedWaves = 0;
+    // Conservation (capRowSums, radiosity/sparse_matrix.h; only with visibility rays): rows
+    // whose sum came out over 1 and were scaled down, and the largest row sum before that.
+    uint64_t rowsCapped = 0;
+    double largestRowSum = 0;
     uint64_t slots = 0;  // CSR entries allocated before zeros were dropped
     uint64_t nonzeros = 0;
     uint64_t workBytes = 0;  // peak bytes of the build: CSR slots + bitmap + scratch
     double countSeconds = 0;  // candidate pass
     double pairSeconds = 0;  // pair loop (factors and visibility)
-    double compactSeconds = 0;  // removal of the stored zeros
+    double compactSeconds = 0;  // removal of the stored zeros and capRowSums
     double totalSeconds = 0;
 };
 

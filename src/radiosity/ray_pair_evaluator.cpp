@@ -28,6 +28,7 @@ constexpr std::size_t kTaskSegments = std::size_t(1) << 16;
 struct Scratch {
     SegmentArrays segments;
     std::vector<uint8_t> blocked;
+    std::vector<float> weights;  // each segment's kernel weight
     std::vector<PairIndex> openPairs;  // traced pairs some segment reaches
     std::vector<float> openFactors;  // their unoccluded factors
     FarFieldScratch farField;
@@ -71,12 +72,13 @@ private:
         Scratch& scratch = scratch_.local();
         scratch.segments.resize(pairs.size() * std::size_t(k));
         scratch.blocked.resize(scratch.segments.size());
+        scratch.weights.resize(scratch.segments.size());
         for (std::size_t p = 0; p < pairs.size(); ++p) {
             const PatchGeometry& gi = geometry_[pairs[p].i];
             const PatchGeometry& gj = geometry_[pairs[p].j];
             shadowSegments(shared::pairSeed(pairs[p].i, pairs[p].j, seed_), k, gi, gj,
                            shared::pairClearance(kEndClearanceRelative, gi, gj), scratch.segments,
-                           p * std::size_t(k));
+                           p * std::size_t(k), scratch.weights.data() + p * std::size_t(k));
         }
         rays_.occluded(scratch.segments, scratch.blocked);
         // The unoccluded factors of the pairs some segment reaches, in one batch (the far field
@@ -93,11 +95,21 @@ private:
         std::size_t s = 0;
         std::size_t next = 0;
         for (std::size_t p = 0; p < pairs.size(); ++p) {
+            // shared::pairVisibility's sums, in its order, so V is bit-identical to the
+            // pair-kernel backends'; F = Fu V in float, as shared::pairEntry.
             int open = 0;
-            for (int r = 0; r < k; ++r, ++s)
-                open += scratch.blocked[s] == 0 ? 1 : 0;
-            const float f = open > 0 ? scratch.openFactors[next++] : 0.0f;
-            fij[p] = static_cast<float>(double(f) * double(open) / double(k));
+            float seen = 0.0f, total = 0.0f;
+            for (int r = 0; r < k; ++r, ++s) {
+                const float w = scratch.weights[s];
+                total += w;
+                if (scratch.blocked[s] == 0) {
+                    seen += w;
+                    ++open;
+                }
+            }
+            fij[p] = open > 0 ? scratch.openFactors[next++] *
+                    shared::kernelWeightedVisibility(seen, total, open, k)
+                              : 0.0f;
         }
     }
 

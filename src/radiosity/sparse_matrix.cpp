@@ -46,6 +46,28 @@ std::vector<double> rowSums(const SparseMatrix& matrix) {
     return sums;
 }
 
+RowSumCap capRowSums(SparseMatrix& matrix) {
+    const std::vector<double> sums = rowSums(matrix);
+    RowSumCap cap;
+    std::vector<double> scale(matrix.size, 1.0);
+    for (uint32_t i = 0; i < matrix.size; ++i) {
+        cap.largestRowSum = std::max(cap.largestRowSum, sums[i]);
+        if (sums[i] > 1.0) {
+            scale[i] = 1.0 / sums[i];
+            ++cap.rowsCapped;
+        }
+    }
+    if (cap.rowsCapped == 0) return cap;
+    tbb::parallel_for(uint32_t(0), matrix.size, [&](uint32_t i) {
+        const uint64_t end = matrix.rowOffsets[i + 1];
+        for (uint64_t k = matrix.rowOffsets[i]; k < end; ++k) {
+            const double s = scale[i] * scale[matrix.columns[k]];
+            if (s != 1.0) matrix.values[k] = static_cast<float>(matrix.values[k] * s);
+        }
+    });
+    return cap;
+}
+
 SparseMatrix transpose(const SparseMatrix& matrix) {
     SparseMatrix result = SparseMatrix::zeros(matrix.size);
     for (uint32_t column : matrix.columns)

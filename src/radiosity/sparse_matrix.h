@@ -42,6 +42,20 @@ uint64_t sparseMatrixBytes(uint64_t rows, uint64_t nonzeros);
 // Sum of each row, accumulated in double.
 std::vector<double> rowSums(const SparseMatrix& matrix);
 
+// What capRowSums did: rows scaled, and the largest row sum before.
+struct RowSumCap {
+    uint64_t rowsCapped = 0;
+    double largestRowSum = 0;
+};
+
+// Conservation of energy for a matrix of view factors (issue 18): no row of F may sum above 1,
+// but sampled visibility can push a row over (K shadow segments estimate V_ij with an error of
+// up to 1/K). Scales every entry F_ij by s_i s_j with s_i = min(1, 1 / rowsum_i): row i then
+// sums to at most s_i rowsum_i = 1 (s_j <= 1), rows at or under 1 whose neighbours are too are
+// untouched, and since F_ij and F_ji get the same factor, reciprocity (A_i F_ij = A_j F_ji)
+// holds as before. Deterministic, parallel over rows.
+RowSumCap capRowSums(SparseMatrix& matrix);
+
 // The transpose, rows in ascending column order (a counting sort: O(n + nnz), deterministic).
 SparseMatrix transpose(const SparseMatrix& matrix);
 

@@ -156,11 +156,16 @@ DAISY_SAMPLES_CLONES
 void trimSegments(int count, const float* xi, const float* yi, const float* zi, const float* xj,
                   const float* yj, const float* zj, vec3 ni, vec3 nj, float clearance,
                   float* __restrict ox, float* __restrict oy, float* __restrict oz,
-                  float* __restrict ex, float* __restrict ey, float* __restrict ez) {
+                  float* __restrict ex, float* __restrict ey, float* __restrict ez,
+                  float* __restrict weight) {
     for (int k = 0; k < count; ++k) {
         const float dx = xj[k] - xi[k], dy = yj[k] - yi[k], dz = zj[k] - zi[k];
         const float leave = std::fabs(ni.x * dx + ni.y * dy + ni.z * dz);
         const float arrive = std::fabs(nj.x * dx + nj.y * dy + nj.z * dz);
+        const float cosI = ni.x * dx + ni.y * dy + ni.z * dz;
+        const float cosJ = -(nj.x * dx + nj.y * dy + nj.z * dz);
+        const float r2 = dx * dx + dy * dy + dz * dz;
+        weight[k] = r2 > 0.0f && cosI > 0.0f && cosJ > 0.0f ? (cosI / r2) * (cosJ / r2) : 0.0f;
         float t0 = clearance / leave;  // +inf when leave = 0: empty below
         float t1 = 1.0f - clearance / arrive;
         if (!(t0 < t1)) t0 = t1 = 0.0f;
@@ -203,8 +208,8 @@ void visibilitySamples(uint32_t pairSeedValue, int count, const PatchGeometry& i
 }
 
 void shadowSegments(uint32_t pairSeedValue, int count, const PatchGeometry& i,
-                    const PatchGeometry& j, float clearance, SegmentArrays& out,
-                    std::size_t offset) {
+                    const PatchGeometry& j, float clearance, SegmentArrays& out, std::size_t offset,
+                    float* weights) {
     SampleBuffers buffers(count);
     const std::size_t n = std::size_t(count);
     float* b = buffers.data;
@@ -212,7 +217,7 @@ void shadowSegments(uint32_t pairSeedValue, int count, const PatchGeometry& i,
                b + 6 * n);
     trimSegments(count, b, b + n, b + 2 * n, b + 3 * n, b + 4 * n, b + 5 * n, i.normal, j.normal,
                  clearance, out.x0.data() + offset, out.y0.data() + offset, out.z0.data() + offset,
-                 out.x1.data() + offset, out.y1.data() + offset, out.z1.data() + offset);
+                 out.x1.data() + offset, out.y1.data() + offset, out.z1.data() + offset, weights);
 }
 
 }  // namespace daisy

@@ -19,9 +19,10 @@ void visibilitySamples(uint32_t pairSeedValue, int count, const shared::PatchGeo
 // their own segments, however grazing (their own shading is the kernel's cosines), nor do
 // patches coplanar with them. A segment too grazing to keep anything comes back empty
 // (origin == end), which ray casters never report as blocked.
-// Written to out at [offset, offset + count).
+// Written to out at [offset, offset + count); weights[0, count) gets each segment's kernel
+// weight (shared::shadowSegment's `weight`, for shared::kernelWeightedVisibility).
 void shadowSegments(uint32_t pairSeedValue, int count, const shared::PatchGeometry& i,
                     const shared::PatchGeometry& j, float clearance, SegmentArrays& out,
-                    std::size_t offset);
+                    std::size_t offset, float* weights);
 
 }  // namespace daisy

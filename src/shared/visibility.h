@@ -1,7 +1,7 @@
-// Visibility V_ij between two patches (DESIGN.md section 3): the unblocked fraction of the pair's
-// K shadow segments, traced any-hit through the flat BVH. The segments are exactly those of the
-// cpu backend (radiosity/visibility_samples.h shadowSegments): the same sample points and the
-// same trimming, so backends differ only where their ray tests do.
+// Visibility V_ij between two patches (DESIGN.md section 3): the kernel-weighted unblocked share
+// of the pair's K shadow segments, traced any-hit through the flat BVH. The segments are exactly
+// those of the cpu backend (radiosity/visibility_samples.h shadowSegments): the same sample
+// points, trimming and weights, so backends differ only where their ray tests do.
 #ifndef DAISY_SHARED_VISIBILITY_H
 #define DAISY_SHARED_VISIBILITY_H
 
@@ -29,17 +29,24 @@ DAISY_HD float pairClearance(float relative, DAISY_IN(PatchGeometry) i, DAISY_IN
 // Shadow segment k of `rays` of the pair (pairSeedValue = pairSeed(i, j, seed)): from the sample
 // point on i towards the one on j (visibilitySamplePair), trimmed at both ends to where it is
 // `clearance` (scene units) from that end's patch plane, so the two patches (and patches coplanar
-// with them) never block it. Returns false when nothing is left (too grazing): such a segment is
+// with them) never block it. `weight` is the form-factor kernel at the untrimmed end points,
+// cos_i cos_j / r^2 = (n_i . d / r^2) (-n_j . d / r^2) with d = p_j - p_i, and 0 where either
+// point is behind the other's plane (the part of a straddling patch the unoccluded factor leaves
+// out) or the points coincide. Returns false when nothing is left (too grazing): such a segment is
 // never blocked. Same arithmetic as shadowSegments, operation for operation.
 DAISY_HD bool shadowSegment(uint pairSeedValue, int k, int rays, DAISY_IN(PatchGeometry) i,
                             DAISY_IN(PatchGeometry) j, float clearance, DAISY_INOUT(vec3) origin,
-                            DAISY_INOUT(vec3) end) {
+                            DAISY_INOUT(vec3) end, DAISY_INOUT(float) weight) {
     vec3 pi;
     vec3 pj;
     visibilitySamplePair(pairSeedValue, k, rays, i, j, pi, pj);
     vec3 d = pj - pi;
     float leave = abs(i.normal.x * d.x + i.normal.y * d.y + i.normal.z * d.z);
     float arrive = abs(j.normal.x * d.x + j.normal.y * d.y + j.normal.z * d.z);
+    float cosI = i.normal.x * d.x + i.normal.y * d.y + i.normal.z * d.z;
+    float cosJ = -(j.normal.x * d.x + j.normal.y * d.y + j.normal.z * d.z);
+    float r2 = d.x * d.x + d.y * d.y + d.z * d.z;
+    weight = r2 > 0.0f && cosI > 0.0f && cosJ > 0.0f ? (cosI / r2) * (cosJ / r2) : 0.0f;
     // shadowSegments divides by zero (inf, then empty); GLSL leaves x / 0 undefined, so test.
     if (!(leave > 0.0f && arrive > 0.0f)) return false;
     float t0 = clearance / leave;
@@ -50,25 +57,46 @@ DAISY_HD bool shadowSegment(uint pairSeedValue, int k, int rays, DAISY_IN(PatchG
     return !(origin.x == end.x && origin.y == end.y && origin.z == end.z);
 }
 
-// V_ij in [0, 1]: the fraction of the pair's `rays` (K >= 1) shadow segments no triangle blocks
-// for t in (DAISY_SEGMENT_MARGIN, 1 - DAISY_SEGMENT_MARGIN) of the segment (the cpu backend's
-// span). pairSeedValue = pairSeed(i, j, seed) (rng.h). The cpu backend passes pairs as i < j;
-// swapping i and j traces the same segments reversed (equal up to rounding).
+// V_ij from a pair's segments (issue 18): the kernel-weighted open share sum_open w / sum w
+// (`seen` and `total`, summed in segment order), not the plain open fraction. V_ij is the
+// kernel-weighted mean of point-to-point visibility (F_ij = Fu_ij V_ij exactly when V is
+// weighted by cos_i cos_j / r^2), so the plain fraction is biased wherever the hidden part of a
+// pair is nearer or farther than the rest, and rows of F then stop summing to 1 however many
+// rays a pair takes. Exactly 1 (0) when every segment is open (blocked); the plain fraction
+// when the weights are not usable (all 0, or overflowed).
+DAISY_HD float kernelWeightedVisibility(float seen, float total, int open, int rays) {
+    if (open == rays) return 1.0f;
+    if (open == 0) return 0.0f;
+    if (total > 0.0f && total < 3.0e38f) return min(1.0f, seen / total);
+    return float(open) / float(rays);
+}
+
+// V_ij in [0, 1]: kernelWeightedVisibility of the pair's `rays` (K >= 1) shadow segments, a
+// segment open when no triangle blocks it for t in (DAISY_SEGMENT_MARGIN, 1 - DAISY_SEGMENT_MARGIN)
+// (the cpu backend's span). pairSeedValue = pairSeed(i, j, seed) (rng.h). The cpu backend passes
+// pairs as i < j; swapping i and j traces the same segments reversed (equal up to rounding).
 DAISY_HD float pairVisibility(uint pairSeedValue, int rays, DAISY_IN(PatchGeometry) i,
                               DAISY_IN(PatchGeometry) j, float clearance, BvhNodeBuffer nodes,
                               BvhTriangleBuffer triangles) {
     int open = 0;
+    float seen = 0.0f;
+    float total = 0.0f;
     for (int k = 0; k < rays; ++k) {
         vec3 origin = vec3(0.0f);
         vec3 end = vec3(0.0f);
+        float weight = 0.0f;
         bool blocked = false;
-        if (shadowSegment(pairSeedValue, k, rays, i, j, clearance, origin, end)) {
+        if (shadowSegment(pairSeedValue, k, rays, i, j, clearance, origin, end, weight)) {
             blocked = bvhOccluded(origin, end - origin, DAISY_SEGMENT_MARGIN,
                                   1.0f - DAISY_SEGMENT_MARGIN, nodes, triangles);
         }
-        open += blocked ? 0 : 1;
+        total += weight;
+        if (!blocked) {
+            seen += weight;
+            open += 1;
+        }
     }
-    return float(open) / float(rays);
+    return kernelWeightedVisibility(seen, total, open, rays);
 }
 
 DAISY_SHARED_END

@@ -99,11 +99,11 @@ TEST_P(BackendEquivalence, RiemannAndNusseltConverge) {
 }
 
 // Summation rule in a closed cube (hybrid: exact up to its refinement tolerance), and around a
-// solid box inside it, where visibility enters. There rows fall short by up to ~3.5% on every
-// backend alike: a room patch straddling the plane of a box face gets shadow samples on its part
-// behind that plane, whose segments the box's other faces block, so V_ij under-counts the
-// visible part (a known limitation of whole-patch sampling, DESIGN.md section 3; reported).
-// Reciprocity entry by entry.
+// solid box inside it, where visibility enters: every row of the room and the box sums to 1.
+// At the default K = 4 rows stray by up to ~2% (sampling); at K = 256 by 0.2%. Before issue 18's
+// kernel-weighted visibility they fell short by up to 3.4% at any K: a room patch straddling
+// the plane of a box face got shadow samples on its part behind that plane, blocked by the
+// box's other faces, and the plain open fraction counted them. Reciprocity entry by entry.
 TEST_P(BackendEquivalence, ClosedEnclosureRowsSumToOneAndReciprocityHolds) {
     const PatchMesh cube = patchesOf(verify::unitCubeRoom(2));
     for (double sum : rowSums(build(cube).matrix))
@@ -112,7 +112,13 @@ TEST_P(BackendEquivalence, ClosedEnclosureRowsSumToOneAndReciprocityHolds) {
     const SparseMatrix f = build(occluded).matrix;
     const std::vector<double> sums = rowSums(f);
     for (std::size_t i = 0; i < sums.size(); ++i)
-        EXPECT_NEAR(sums[i], 1.0, 4e-2) << i;
+        EXPECT_NEAR(sums[i], 1.0, 2.5e-2) << i;
+    // Converges with K: the kernel-weighted visibility has no bias left to stall at (the plain
+    // open fraction stayed 3.4% off at every K from 4 to 256).
+    FormFactorSettings many;
+    many.raysPerPair = 256;
+    for (double sum : rowSums(build(occluded, many).matrix))
+        EXPECT_NEAR(sum, 1.0, 3e-3);
     for (uint32_t i = 0; i < f.size; ++i) {
         for (std::size_t k = 0; k < f.rowLength(i); ++k) {
             const uint32_t j = f.rowColumns(i)[k];
@@ -164,9 +170,11 @@ TEST(ReferenceBackend, UnoccludedMatrixEqualsCpuBitForBit) {
 
 // With visibility the sample points, segments and culling decisions are the same (one driver);
 // only the ray tests (Embree vs our traversal) can differ, on segments that graze an edge. Nearly
-// every entry must be identical and the rest within a few rays' worth (F_unoccluded / K each):
-// up to 4 of 16, for pairs mirror-symmetric about the half-occluding plate's edge, whose
-// segments cross exactly that edge, where rounding alone decides (one such pair differs).
+// every entry must be identical and the rest within a few rays' worth: up to 4 of 16 segments,
+// for pairs mirror-symmetric about the half-occluding plate's edge, whose segments cross exactly
+// that edge, where rounding alone decides (one such pair differs). V is kernel-weighted, so 4
+// segments weigh a little more or less than 4 / 16 of the pair (0.2501 of it there): the bound
+// is 0.3 of the unoccluded factor.
 TEST(ReferenceBackend, OccludedMatrixAgreesWithCpu) {
     for (const PatchMesh& mesh : {cubeWithPlate(), cubeAroundBox(), halfOccludedSquares()}) {
         FormFactorSettings settings;
@@ -178,8 +186,7 @@ TEST(ReferenceBackend, OccludedMatrixAgreesWithCpu) {
         const uint64_t entries = open.nonzeroCount();
         const MatrixComparison c = compareMatrices(cpu, reference, {0, 0, int(entries)});
         for (const EntryDifference& d : c.worst)
-            EXPECT_LE(d.absolute, 4.0 / 16.0 * open.at(d.row, d.column) * 1.0001)
-                << d.row << ", " << d.column;
+            EXPECT_LE(d.absolute, 0.3 * open.at(d.row, d.column)) << d.row << ", " << d.column;
         EXPECT_LE(c.overTolerance, entries / 100) << c.overTolerance << " of " << entries;
     }
 }

@@ -101,10 +101,11 @@ void BM_ShadowSegments16(benchmark::State& state) {
     std::size_t k = 0;
     SegmentArrays segments;
     segments.resize(16);
+    float weights[16];
     for (auto _ : state) {
         const auto& [i, j] = s.facingPairs[k++ & 4095];
         shadowSegments(shared::pairSeed(i, j, 1u), 16, s.geometry[i], s.geometry[j], 1e-5f,
-                       segments, 0);
+                       segments, 0, weights);
         benchmark::DoNotOptimize(segments.x0.data());
     }
     state.SetItemsProcessed(int64_t(state.iterations()) * 16);
@@ -161,10 +162,11 @@ void BM_EmbreeOccluded(benchmark::State& state) {
     caster->setPacketMode(mode);
     SegmentArrays segments;
     segments.resize(s.facingPairs.size() * 16);
+    std::vector<float> weights(segments.size());
     for (std::size_t p = 0; p < s.facingPairs.size(); ++p) {
         const auto& [i, j] = s.facingPairs[p];
         shadowSegments(shared::pairSeed(i, j, 1u), 16, s.geometry[i], s.geometry[j], 1e-5f,
-                       segments, 16 * p);
+                       segments, 16 * p, weights.data() + 16 * p);
     }
     std::vector<uint8_t> blocked(segments.size());
     for (auto _ : state) {

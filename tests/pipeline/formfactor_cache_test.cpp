@@ -129,7 +129,7 @@ TEST(FormFactorCacheHash, Xxh64MatchesTheReferenceLibrary) {
 
 // The key is the FNV-1a 128 of the byte stream docs/cache.md lists, checked against an
 // independent Python implementation of that list (struct.pack('<Q' / '<d') and the FNV loop),
-// at format version 2.
+// at format version 3.
 TEST(FormFactorCacheKey, MatchesTheDocumentedByteStream) {
     TriangleMesh mesh;
     mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
@@ -138,7 +138,7 @@ TEST(FormFactorCacheKey, MatchesTheDocumentedByteStream) {
     const PatchMesh patches = verify::patchesOf(mesh);
     FormFactorSettings k16;  // the Python oracle was computed with K = 16 (the default was then)
     k16.raysPerPair = 16;
-    EXPECT_EQ(formFactorKey(patches, k16, "cpu").hex(), "35746f336a047da20bfae6d952d8ae36");
+    EXPECT_EQ(formFactorKey(patches, k16, "cpu").hex(), "8c6b6262a1dc01df5e87ace8ff445295");
     FormFactorSettings stochastic;
     stochastic.method = FormFactorMethod::Stochastic;
     stochastic.quadratureLevel = 2;
@@ -147,7 +147,7 @@ TEST(FormFactorCacheKey, MatchesTheDocumentedByteStream) {
     stochastic.shaftCulling = false;
     stochastic.stochasticRays = 512;
     EXPECT_EQ(formFactorKey(patches, stochastic, "kernel").hex(),
-              "5db0f1a7d79336cac346259bee706c51");
+              "fbfa27a9c8140603e62919fd9479bc60");
 }
 
 TEST(FormFactorCacheKey, ChangesWithEverythingFDependsOn) {

@@ -58,6 +58,36 @@ TEST(SparseMatrix, TransposeAndDropZeros) {
     EXPECT_EQ(m.columns, (UninitializedVector<uint32_t>{1, 2}));
 }
 
+// Three patches of areas 1, 2, 4 with symmetric A_i F_ij = 0.8 (0-1), 0.6 (0-2), 1.0 (1-2):
+// row 0 sums to 1.4, the others to 0.9 and 0.4. Capping scales row 0 and column 0 by 1 / 1.4 and
+// leaves F_12, F_21 alone; reciprocity holds after it.
+TEST(SparseMatrix, CapRowSumsConservesAndKeepsReciprocity) {
+    const double area[3] = {1, 2, 4};
+    SparseMatrix m = SparseMatrix::zeros(3);
+    m.rowOffsets = {0, 2, 4, 6};
+    m.columns = {1, 2, 0, 2, 0, 1};
+    m.values = {0.8f, 0.6f, 0.4f, 0.5f, 0.15f, 0.25f};
+    const RowSumCap cap = capRowSums(m);
+    EXPECT_EQ(cap.rowsCapped, 1u);
+    EXPECT_NEAR(cap.largestRowSum, 1.4, 1e-6);
+    const std::vector<double> sums = rowSums(m);
+    EXPECT_NEAR(sums[0], 1.0, 1e-6);
+    EXPECT_NEAR(sums[1], 0.4 / 1.4 + 0.5, 1e-6);
+    EXPECT_NEAR(sums[2], 0.15 / 1.4 + 0.25, 1e-6);
+    EXPECT_EQ(m.at(1, 2), 0.5f);
+    EXPECT_EQ(m.at(2, 1), 0.25f);
+    for (uint32_t i = 0; i < 3; ++i) {
+        for (uint32_t j = 0; j < 3; ++j)
+            EXPECT_NEAR(area[i] * m.at(i, j), area[j] * m.at(j, i), 1e-6) << i << ", " << j;
+    }
+    // Nothing over 1 is left: a second pass finds at most rounding.
+    EXPECT_LE(capRowSums(m).largestRowSum, 1.0 + 1e-6);
+    // A matrix within the rule is not touched.
+    SparseMatrix small = smallMatrix();
+    EXPECT_EQ(capRowSums(small).rowsCapped, 0u);
+    EXPECT_EQ(small.values, smallMatrix().values);
+}
+
 TEST(SparseMatrix, StructureErrorsAreNamed) {
     SparseMatrix m = smallMatrix();
     m.columns[2] = 0;  // row 1: 0, 0
