@@ -47,7 +47,11 @@ std::vector<double> rowSums(const SparseMatrix& matrix) {
 }
 
 RowSumCap capRowSums(SparseMatrix& matrix) {
-    const std::vector<double> sums = rowSums(matrix);
+    std::vector<double> sums(matrix.size, 0.0);  // rowSums, a row a task
+    tbb::parallel_for(uint32_t(0), matrix.size, [&](uint32_t i) {
+        for (float value : matrix.rowValues(i))
+            sums[i] += value;
+    });
     RowSumCap cap;
     std::vector<double> scale(matrix.size, 1.0);
     for (uint32_t i = 0; i < matrix.size; ++i) {
