@@ -28,8 +28,9 @@ public:
     // The most pairs one evaluate() call takes (sized for the device's buffers); >= 1.
     virtual std::size_t batchPairs() const = 0;
     // fij[k] = F_ij of pairs[k] (i < j, a candidate pair: not facing away): the unoccluded
-    // factor (shared/formfactor.h, negative rounding clamped to 0) times the unblocked fraction
-    // of `rays` shadow segments (shared/visibility.h); rays == 0: the unoccluded factor alone.
+    // factor (shared/formfactor.h, negative rounding clamped to 0) times the kernel-weighted
+    // unblocked share of `rays` shadow segments (shared::kernelWeightedVisibility, in float);
+    // rays == 0: the unoccluded factor alone.
     // fij.size() == pairs.size() <= batchPairs(). Called from one thread at a time (it may run
     // in parallel inside); an error stops the build.
     virtual Expected<void> evaluate(std::span<const shared::PairIndex> pairs, int rays,
