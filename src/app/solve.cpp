@@ -92,10 +92,7 @@ int runSolve(const CommonOptions& options, const ExportOptions& exports) {
         return 2;
     }
     if (verbosity() == Verbosity::Verbose) {
-        const std::span<const double> sums = session->formFactorRowSums();
-        printEnergy(
-            computeEnergyBalance(session->system(), sums, solved->radiosity, solved->gathered),
-            session->system());
+        printEnergy(session->energyBalance(), session->system());
     }
     if (!exports.patchesPath.empty()) {
         if (auto written = writeSolvedPatches(exports.patchesPath, *session); !written) {

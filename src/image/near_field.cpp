@@ -8,7 +8,7 @@
 #include <cmath>
 
 #include "core/check.h"
-#include "image/patch_exposure.h"
+#include "pipeline/patch_exposure.h"
 #include "radiosity/hybrid_far_field.h"
 #include "shared/formfactor.h"
 
@@ -105,7 +105,6 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
         phi = phi > 0 ? std::max(phi, kMinExposedShare) : 0.0f;
     field.firstNode_.assign(n, kNoNodes);
     field.patchMeans_.assign(n * m, 0.0);
-    field.hiddenGain_.assign(n * m, 0.0);
     field.coverage_.assign(n, 0.0);
     std::vector<shared::PatchGeometry> geometry(n);
     std::vector<shared::vec3> centroids(n);
@@ -125,8 +124,7 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
                 phi > 0 ? (radiosity[p * m + k] - system.emissionRow(uint32_t(p))[k]) / phi : 0.0;
     }
 
-    // Per receiving patch: the light its exposed part misses from the hidden fractions of
-    // partly buried patches; then its near candidates (j with F_ij > 0 whose centroid can come
+    // Per receiving patch: its near candidates (j with F_ij > 0 whose centroid can come
     // within R of a point of i), nearest first, each one's visibility and share of the nodes'
     // Near and Omega, and their means over i's exposed children.
     const float reach = float(field.radius_);
@@ -144,14 +142,6 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
             if (system.operators[system.patchOperator[i]].isZero || phi <= 0) continue;
             const auto columns = formFactors.rowColumns(uint32_t(i));
             const auto fij = formFactors.rowValues(uint32_t(i));
-            double* gain = field.hiddenGain_.data() + i * m;
-            for (std::size_t e = 0; e < columns.size(); ++e) {
-                const uint32_t j = columns[e];
-                const double phiJ = field.exposed_[j];
-                if (phiJ <= 0 || phiJ >= 1) continue;
-                for (std::size_t k = 0; k < m; ++k)
-                    gain[k] += fij[e] * (1 - phiJ) * reflected[j * m + k];
-            }
             if (!(reach > 0) || settings.maxNeighbours <= 0) continue;
             const shared::PatchGeometry& gi = geometry[i];
             const shared::vec3 ci = centroids[i];
@@ -237,12 +227,11 @@ void NearField::toFarRadiosity(const RadiositySystem& system, std::span<double> 
         const double phi = exposed_[i];
         if (op.isZero || phi <= 0) continue;
         const double* e = system.emissionRow(uint32_t(i));
-        // M_i times (the hidden fractions' light - phi_i N_i), then all over phi_i: the exposed
-        // part's far indirect light, spread over 1 - Omega_i of its hemisphere.
-        const double* gain = hiddenGain_.data() + i * m;
+        // (B_i - E_i) / phi_i - M_i N_i: the exposed part's far indirect light, spread over
+        // 1 - Omega_i of its hemisphere.
         const double* near = patchMeans_.data() + i * m;
         for (std::size_t k = 0; k < m; ++k)
-            mean[k] = gain[k] - phi * near[k];
+            mean[k] = -phi * near[k];
         applyOperator(op, mean.data(), reradiated.data());
         for (std::size_t o = 0; o < m; ++o)
             indirect[o] = (b[i * m + o] - e[o] + reradiated[o]) / phi;

@@ -23,22 +23,21 @@
 // near light instead of adding it. The image is, per sample (S the smooth image of
 // S_i = E_i + M_i (G_i - D_i - N_i) / (1 - Omega_i)):
 //     S(x) + [M_i H(x) + M_i Near(x)] / pi - Omega(x) (S(x) - E_i / pi),
-// whose patch mean is B_i / pi (light moved within patches, none added but the buried parts'
-// below). In a closed room of uniform E and rho it is B = E / (1 - rho) at every point; where
-// no near patch is in view it is the direct gather's image. Patches partly buried under an
-// object (patch_exposure.h) take their exposed part's values: (B_j - E_j) / phi_j as a
-// neighbour, means over the exposed children of the lattice, the smooth value over phi_i, and
-// each receiver gets the light the hidden fractions took from it, sum_j F_ij (B_j - E_j)
-// (1 / phi_j - 1) (one bounce); phi is floored at 1/4 for these divisions. Deterministic: no
-// random numbers. The emitters' own E is never gathered (the direct gather's), and B_j - E_j
-// carries what reached j directly.
+// whose patch mean is B_i / pi (light moved within patches, none added). In a closed room of
+// uniform E and rho it is B = E / (1 - rho) at every point; where no near patch is in view it
+// is the direct gather's image. Patches partly buried under an object (patch_exposure.h) take
+// their exposed part's values: (B_j - E_j) / phi_j as a neighbour, means over the exposed
+// children of the lattice, and the smooth value over phi_i; phi is floored at 1/4 for these
+// divisions (the solve already gave the exposed parts all the light they gather:
+// pipeline/session.h). Deterministic: no random numbers. The emitters' own E is never gathered
+// (the direct gather's), and B_j - E_j carries what reached j directly.
 #include <cstdint>
 #include <span>
 #include <vector>
 
 #include "backend/embree_ray_caster.h"
 #include "geometry/patch_mesh.h"
-#include "image/patch_exposure.h"
+#include "pipeline/patch_exposure.h"
 #include "radiosity/radiosity_system.h"
 #include "radiosity/sparse_matrix.h"
 #include "shared/gpu_types.h"
@@ -58,7 +57,7 @@ class NearField {
 public:
     // Per receiving patch: Near and Omega at its 15 lattice nodes over the patches j with
     // F_ij > 0 that can lie within R of it, their means N_i and Omega_i over its exposed
-    // children, and the light its hidden-fraction neighbours took. `radiosity`: the solved B
+    // children. `radiosity`: the solved B
     // (n x m, the system's layout). Parallel over patches (the caller's TBB arena);
     // deterministic.
     static NearField build(const PatchMesh& patches, const RadiositySystem& system,
@@ -101,7 +100,6 @@ private:
     std::vector<float> nodes_;  // per node: Near (m values), then Omega
     std::vector<double> patchMeans_;  // N over the exposed lattice, n x m
     std::vector<double> coverage_;  // Omega_i, per patch
-    std::vector<double> hiddenGain_;  // sum_j F_ij (1 - phi_j) (B_j - E_j) / phi_j, n x m
     std::vector<float> exposed_;  // phi per patch
     int channels_ = 0;
     std::vector<float> corners_;  // S per corner

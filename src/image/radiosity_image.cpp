@@ -7,9 +7,9 @@
 #include "core/strings.h"
 #include "core/timer.h"
 #include "image/edge_sampling.h"
-#include "image/patch_exposure.h"
 #include "image/pixel_samples.h"
 #include "image/texture_detail.h"
+#include "pipeline/patch_exposure.h"
 #include "pipeline/vertex_radiance.h"
 
 namespace daisy {
@@ -47,14 +47,14 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
             // On the image's threads (--threads), as the ray-cast passes.
             tbb::task_arena arena(settings.threads > 0 ? settings.threads
                                                        : tbb::task_arena::automatic);
-            auto exposure = arena.execute([&] { return patchExposure(session.patches()); });
+            auto exposure = session.exposure();
             if (!exposure) return exposure.error();
             arena.execute([&] {
                 near = NearField::build(session.patches(), session.system(), session.formFactors(),
-                                        b, *exposure, nearField);
+                                        b, **exposure, nearField);
             });
             near.toFarRadiosity(session.system(), smooth);
-            weights = exposedAreas(session.patches(), *exposure);
+            weights = exposedAreas(session.patches(), **exposure);
             t.nearSeconds = nearTimer.seconds();
         }
         corners = cornerValues(session.patches(),

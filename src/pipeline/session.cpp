@@ -1,5 +1,7 @@
 #include "pipeline/session.h"
 
+#include <tbb/task_arena.h>
+
 #include <algorithm>
 #include <future>
 #include <mutex>
@@ -15,6 +17,7 @@
 #include "pipeline/backend_registry.h"
 #include "pipeline/punctual_lights.h"
 #include "pipeline/vertex_radiance.h"
+#include "radiosity/exposed_system.h"
 
 namespace daisy {
 
@@ -41,6 +44,8 @@ struct Session::State {
 
     bool haveSolution = false;
     SolverResult solution;
+    mutable std::optional<PatchExposure> exposure;  // probed on first use (patches are fixed)
+    ExposedSystem exposed;  // of the last solve
 
     // The store of a freshly built F into the disk cache, running off the critical path (it
     // reads f, which stays unchanged until finishCacheWrite). Declared last so that it is
@@ -473,11 +478,30 @@ Expected<SolverResult> Session::solve(const SolveRequest& request) {
     if (settings.kind == SolverKind::Southwell) settings.transposed = &formFactorTranspose();
     const std::size_t size = std::size_t(s.system.patchCount) * s.system.wavelengthCount;
     const bool warm = request.warmStart && s.haveSolution && s.solution.radiosity.size() == size;
-    if (warm) settings.initialRadiosity = s.solution.radiosity;
 
     Timer timer;
-    auto solved = solveRadiosity(s.f, s.system, settings);
+    auto exposure = this->exposure();
+    if (!exposure) return Error{concat(s.scenePath(), ": ", exposure.error().message)};
+    s.exposed = exposedSystem(s.system, (*exposure)->fraction, s.rowSums);
+    const RadiositySystem& system = s.exposed.changed ? s.exposed.system : s.system;
+    std::vector<double> start;
+    if (warm) {
+        start = s.solution.radiosity;
+        if (s.exposed.changed) wholePatchToExposed(s.system, s.exposed.phi, start);
+        settings.initialRadiosity = start;
+    }
+    std::vector<double> iterate;
+    if (request.onIteration && s.exposed.changed) {
+        settings.onIteration = [&](int iteration, std::span<const double> radiosity) {
+            iterate.assign(radiosity.begin(), radiosity.end());
+            exposedToWholePatch(s.system, s.exposed.phi, iterate);
+            request.onIteration(iteration, iterate);
+        };
+    }
+    if (s.exposed.changed) settings.rowSums = s.exposed.rowSums;
+    auto solved = solveRadiosity(s.f, system, settings);
     if (!solved) return Error{concat(s.scenePath(), ": ", solved.error().message)};
+    if (s.exposed.changed) exposedToWholePatch(s.system, s.exposed.phi, solved->radiosity);
     s.timings.solveSeconds = timer.seconds();
     // A caller-bounded solve (the viewer's bounce stepping) stops short of convergence on purpose.
     if (!solved->converged && !solved->cancelled && !request.maxIterations) {
@@ -492,6 +516,39 @@ Expected<SolverResult> Session::solve(const SolveRequest& request) {
     s.solution = *solved;
     s.haveSolution = true;
     return solved;
+}
+
+Expected<const PatchExposure*> Session::exposure() const {
+    State& s = *state_;
+    if (!s.exposure) {
+        tbb::task_arena arena(s.settings.solver.threads > 0 ? s.settings.solver.threads
+                                                            : tbb::task_arena::automatic);
+        auto probed = arena.execute([&] { return patchExposure(s.patches); });
+        if (!probed) return probed.error();
+        s.exposure = std::move(*probed);
+    }
+    return &*s.exposure;
+}
+
+EnergyBalance Session::energyBalance() const {
+    const State& s = *state_;
+    DAISY_CHECK(s.haveSolution);
+    if (!s.exposed.changed || s.solution.gathered.empty())
+        return computeEnergyBalance(s.system, s.rowSums, s.solution.radiosity, s.solution.gathered);
+    // Over the exposed parts: areas A'_i = A_i / s_i (the exposed system's), rows s_i rowsum_i,
+    // B' and the irradiance s_i G_i, with the materials' own operators (M_i, not s_i M_i).
+    RadiositySystem parts = s.system;
+    parts.areas = s.exposed.system.areas;
+    std::vector<double> exposed = s.solution.radiosity;
+    wholePatchToExposed(s.system, s.exposed.phi, exposed);
+    std::vector<double> gathered = s.solution.gathered;
+    const std::size_t m = s.system.wavelengthCount;
+    for (std::size_t i = 0; i < s.system.patchCount; ++i) {
+        const double scale = s.system.areas[i] / s.exposed.system.areas[i];
+        for (std::size_t k = 0; k < m; ++k)
+            gathered[i * m + k] *= scale;
+    }
+    return computeEnergyBalance(parts, s.exposed.rowSums, exposed, gathered);
 }
 
 bool Session::hasSolution() const {

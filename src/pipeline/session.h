@@ -22,6 +22,8 @@
 #include "core/expected.h"
 #include "geometry/patch_mesh.h"
 #include "pipeline/formfactor_cache.h"
+#include "pipeline/patch_exposure.h"
+#include "radiosity/energy.h"
 #include "radiosity/form_factors.h"
 #include "radiosity/matrix_estimate.h"
 #include "radiosity/radiosity_system.h"
@@ -161,10 +163,19 @@ public:
     Expected<void> setWavelengths(const WavelengthSpec& spec, const std::string& text);
 
     // ---- solve ----
-    // Solves B = E + M F B (building F first if needed). Not converging within the iteration
-    // limit is a warning (logged, except when request.maxIterations bounds the solve), not an
-    // error; cancellation returns the last iterate with cancelled = true.
+    // Solves B = E + M F B (building F first if needed) for the patches' exposed parts
+    // (radiosity/exposed_system.h: a patch partly buried under an object reflects all it gathers
+    // from its exposed part), and returns the whole-patch means B = E + phi (B' - E); `gathered`
+    // is F B'. Not converging within the iteration limit is a warning (logged, except when
+    // request.maxIterations bounds the solve), not an error; cancellation returns the last
+    // iterate with cancelled = true.
     Expected<SolverResult> solve(const SolveRequest& request = {});
+    // The exposed share of every patch (pipeline/patch_exposure.h), probed on first use (Embree).
+    Expected<const PatchExposure*> exposure() const;
+    // The energy bookkeeping of the solution (radiosity/energy.h), of the exposed parts when the
+    // last solve used them (then light reaching a buried part is not counted as escaped).
+    // Precondition: hasSolution() from solve().
+    EnergyBalance energyBalance() const;
     bool hasSolution() const;
     const SolverResult& solution() const;  // precondition: hasSolution()
     // Sets B = E (the viewer's "reset to emission"; the next warm start starts there).

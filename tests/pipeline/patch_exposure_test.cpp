@@ -1,4 +1,4 @@
-// Exposed parts of patches (image/patch_exposure.h): a closed box standing on a subdivided floor
+// Exposed parts of patches (pipeline/patch_exposure.h): a closed box standing on a subdivided floor
 // buries exactly the floor's quadrature points inside its footprint (the oracle is the
 // footprint itself: a point is under the box or not), and nothing else; an open scene, where no
 // point is inside anything, is exposed everywhere.
@@ -8,7 +8,7 @@
 #include <numeric>
 
 #include "geometry/patch_mesh.h"
-#include "image/patch_exposure.h"
+#include "pipeline/patch_exposure.h"
 #include "verify/scenes.h"
 
 namespace daisy {

@@ -1,4 +1,4 @@
-#include "image/patch_exposure.h"
+#include "pipeline/patch_exposure.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -1,11 +1,10 @@
 #pragma once
 // Exposed parts of patches (issue 16, session 3; docs/rendering.md). A floor subdivided without
 // regard to the blocks standing on it has patches that run under a block: their buried part
-// sees only the inside of the block, so F_ij from its points is 0 (blocked), and the solution
-// spreads the exposed part's gathered light over the whole patch: B_i - E_i is the exposed
-// part's value times its fraction phi_i. Neighbours then see that strip at phi_i times its
-// brightness (F_ji counts only the exposed part, and B_i is already scaled), and the smooth
-// image averages the fully buried patches' black into the vertices along the block's base.
+// sees only the inside of the block, so F_ij from its points is 0 (blocked). The session
+// solves for the exposed parts (radiosity/exposed_system.h) and stores B_i - E_i as the
+// exposed part's value times phi_i; the gather divides it back, and the smooth image weights
+// vertex means by exposed area so fully buried patches do not blacken the block's base.
 //
 // A point counts as buried when all five probe rays from it (along the patch normal and four
 // tilted 45 degrees from it) hit the back of a single-sided surface: it is inside a closed

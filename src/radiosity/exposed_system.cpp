@@ -1,0 +1,83 @@
+#include "radiosity/exposed_system.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <utility>
+
+#include "core/check.h"
+
+namespace daisy {
+
+namespace {
+
+constexpr double kSteps = 64;  // exposed shares are rounded up to 1/64
+
+}  // namespace
+
+ExposedSystem exposedSystem(const RadiositySystem& system, std::span<const float> exposure,
+                            std::span<const double> rowSums) {
+    const std::size_t n = system.patchCount;
+    DAISY_CHECK(exposure.size() == n && rowSums.size() == n);
+    ExposedSystem out;
+    out.phi.assign(n, 1.0);
+    out.rowSums.assign(rowSums.begin(), rowSums.end());
+    std::vector<int> steps(n, 0);  // per patch: max(phi, rowsum) in 1/64, rounded up; 0 = keep
+    for (std::size_t i = 0; i < n; ++i) {
+        const double phi = exposure[i];
+        if (!(phi > 0 && phi < 1) || !(rowSums[i] > 0) ||
+            system.operators[system.patchOperator[i]].isZero) {
+            continue;
+        }
+        const int step = int(std::ceil(std::max(phi, std::min(rowSums[i], 1.0)) * kSteps));
+        if (step >= int(kSteps)) continue;
+        steps[i] = step;
+        out.phi[i] = phi;
+        out.changed = true;
+    }
+    if (!out.changed) return out;
+    out.system = system;
+    std::map<std::pair<uint32_t, int>, uint32_t> copies;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (steps[i] == 0) continue;
+        const uint32_t op = system.patchOperator[i];
+        const auto [it, added] =
+            copies.emplace(std::pair{op, steps[i]}, uint32_t(out.system.operators.size()));
+        const double scale = kSteps / steps[i];
+        if (added) {
+            MaterialOperator scaled = system.operators[op];
+            for (double& v : scaled.matrix.values)
+                v *= scale;
+            finishOperator(scaled, system.binWidthsNm);
+            out.system.operators.push_back(std::move(scaled));
+        }
+        out.system.patchOperator[i] = it->second;
+        out.system.areas[i] = system.areas[i] / scale;
+        out.rowSums[i] = rowSums[i] * scale;
+    }
+    return out;
+}
+
+void exposedToWholePatch(const RadiositySystem& system, std::span<const double> phi,
+                         std::span<double> radiosity) {
+    const std::size_t m = system.wavelengthCount;
+    for (std::size_t i = 0; i < phi.size(); ++i) {
+        if (phi[i] == 1.0) continue;
+        const double* e = system.emissionRow(uint32_t(i));
+        for (std::size_t k = 0; k < m; ++k)
+            radiosity[i * m + k] = e[k] + phi[i] * (radiosity[i * m + k] - e[k]);
+    }
+}
+
+void wholePatchToExposed(const RadiositySystem& system, std::span<const double> phi,
+                         std::span<double> radiosity) {
+    const std::size_t m = system.wavelengthCount;
+    for (std::size_t i = 0; i < phi.size(); ++i) {
+        if (phi[i] == 1.0) continue;
+        const double* e = system.emissionRow(uint32_t(i));
+        for (std::size_t k = 0; k < m; ++k)
+            radiosity[i * m + k] = e[k] + (radiosity[i * m + k] - e[k]) / phi[i];
+    }
+}
+
+}  // namespace daisy
