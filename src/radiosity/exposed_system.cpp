@@ -58,26 +58,31 @@ ExposedSystem exposedSystem(const RadiositySystem& system, std::span<const float
     return out;
 }
 
-void exposedToWholePatch(const RadiositySystem& system, std::span<const double> phi,
-                         std::span<double> radiosity) {
+namespace {
+
+// radiosity_ik = E_ik + convert(phi_i, radiosity_ik - E_ik) for every patch with phi_i < 1.
+template <typename Convert>
+void convertReflected(const RadiositySystem& system, std::span<const double> phi,
+                      std::span<double> radiosity, Convert convert) {
     const std::size_t m = system.wavelengthCount;
     for (std::size_t i = 0; i < phi.size(); ++i) {
         if (phi[i] == 1.0) continue;
         const double* e = system.emissionRow(uint32_t(i));
         for (std::size_t k = 0; k < m; ++k)
-            radiosity[i * m + k] = e[k] + phi[i] * (radiosity[i * m + k] - e[k]);
+            radiosity[i * m + k] = e[k] + convert(phi[i], radiosity[i * m + k] - e[k]);
     }
+}
+
+}  // namespace
+
+void exposedToWholePatch(const RadiositySystem& system, std::span<const double> phi,
+                         std::span<double> radiosity) {
+    convertReflected(system, phi, radiosity, [](double p, double r) { return p * r; });
 }
 
 void wholePatchToExposed(const RadiositySystem& system, std::span<const double> phi,
                          std::span<double> radiosity) {
-    const std::size_t m = system.wavelengthCount;
-    for (std::size_t i = 0; i < phi.size(); ++i) {
-        if (phi[i] == 1.0) continue;
-        const double* e = system.emissionRow(uint32_t(i));
-        for (std::size_t k = 0; k < m; ++k)
-            radiosity[i * m + k] = e[k] + (radiosity[i * m + k] - e[k]) / phi[i];
-    }
+    convertReflected(system, phi, radiosity, [](double p, double r) { return r / p; });
 }
 
 }  // namespace daisy

@@ -161,6 +161,17 @@ TEST(NearFieldGather, WhiteFurnaceIsUniformWithTheNearFieldOn) {
     EXPECT_GT(field.addIrradiance(at.patch, at.u, at.v, std::span<double>(&irradiance, 1)), 0.3);
 }
 
+// The white furnace (E = 1, rho = 0.5, B = 2 everywhere) with a closed box standing on its
+// floor of 8 x 8 quads.
+Scene furnaceWithABoxOnItsFloor() {
+    Scene scene;
+    scene.path = "furnace-box";
+    scene.mesh = verify::unitCubeRoom(8);
+    verify::addSolidBox(scene.mesh, {0.35, 0.35, 0}, {0.3, 0.3, 0.3});
+    scene.materials = {verify::flatMaterial("flat", 0.5, 1)};
+    return scene;
+}
+
 // A closed box standing on the furnace's subdivided floor: the floor patches along its base run
 // under it, and every point in view still has B = E / (1 - rho). The direct gather shows the
 // solution's buried fractions as a dark band along the base (the strip's B is its exposed
@@ -168,12 +179,7 @@ TEST(NearFieldGather, WhiteFurnaceIsUniformWithTheNearFieldOn) {
 // gather takes them out. 1,024 shadow rays a pixel keep the direct light's own noise (lights
 // half hidden by the box) under 0.5%.
 TEST(NearFieldGather, BoxOnTheFurnaceFloorLosesItsDarkBand) {
-    Scene scene;
-    scene.path = "furnace-box";
-    scene.mesh = verify::unitCubeRoom(8);
-    verify::addSolidBox(scene.mesh, {0.35, 0.35, 0}, {0.3, 0.3, 0.3});
-    scene.materials = {verify::flatMaterial("flat", 0.5, 1)};
-    Session session = solvedSession(std::move(scene), 0);
+    Session session = solvedSession(furnaceWithABoxOnItsFloor(), 0);
     const Camera camera =
         test::lookAtCamera("base", {0.5, 0.02, 0.45}, {0.5, 0.35, 0.05}, {0, 0, 1}, 0.9);
     RenderSettings settings;
@@ -213,12 +219,7 @@ TEST(NearFieldGather, BoxOnTheFurnaceFloorLosesItsDarkBand) {
 // E + (B_i - E) / phi_i must be 2, as the fully exposed patches' B_i are, and nothing escapes
 // a closed room. The whole-patch solve lost the buried shares' light at every bounce.
 TEST(ExposedSolve, BoxOnTheFurnaceFloorKeepsEveryExposedPartAtTheFurnaceValue) {
-    Scene scene;
-    scene.path = "furnace-box";
-    scene.mesh = verify::unitCubeRoom(8);
-    verify::addSolidBox(scene.mesh, {0.35, 0.35, 0}, {0.3, 0.3, 0.3});
-    scene.materials = {verify::flatMaterial("flat", 0.5, 1)};
-    Session session = solvedSession(std::move(scene), 0);
+    Session session = solvedSession(furnaceWithABoxOnItsFloor(), 0);
     auto exposure = session.exposure();
     ASSERT_TRUE(exposure.ok()) << exposure.error().message;
     const std::vector<float>& phi = (*exposure)->fraction;
