@@ -83,7 +83,10 @@ TEST(VisibilitySamples, SegmentsAndKernelWeightsMatchTheSharedFunction) {
             const double cosJ = -(j.normal.x * dx + j.normal.y * dy + j.normal.z * dz) / r2;
             const double expected = cosI > 0 && cosJ > 0 ? cosI * cosJ : 0.0;
             behind += expected == 0.0 ? 1 : 0;
-            EXPECT_NEAR(weight, expected, 1e-4 * expected) << "trial " << trial << " k " << k;
+            // Float dot products of a grazing segment cancel: their rounding is relative to
+            // |d|, so the weight's error is bounded by a few float epsilons of 1 / r^2.
+            EXPECT_NEAR(weight, expected, 1e-4 * expected + 1e-5 / r2)
+                << "trial " << trial << " k " << k;
         }
     }
     EXPECT_GT(behind, 0);  // random triangles straddle each other's planes
