@@ -39,19 +39,15 @@ uint64_t sparseMatrixBytes(uint64_t rows, uint64_t nonzeros) {
 
 std::vector<double> rowSums(const SparseMatrix& matrix) {
     std::vector<double> sums(matrix.size, 0.0);
-    for (uint32_t i = 0; i < matrix.size; ++i) {
-        for (float value : matrix.rowValues(i))
-            sums[i] += value;
-    }
-    return sums;
-}
-
-RowSumCap capRowSums(SparseMatrix& matrix) {
-    std::vector<double> sums(matrix.size, 0.0);  // rowSums, a row a task
     tbb::parallel_for(uint32_t(0), matrix.size, [&](uint32_t i) {
         for (float value : matrix.rowValues(i))
             sums[i] += value;
     });
+    return sums;
+}
+
+RowSumCap capRowSums(SparseMatrix& matrix) {
+    const std::vector<double> sums = rowSums(matrix);
     RowSumCap cap;
     std::vector<double> scale(matrix.size, 1.0);
     for (uint32_t i = 0; i < matrix.size; ++i) {

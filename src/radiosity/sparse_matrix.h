@@ -39,7 +39,7 @@ struct SparseMatrix {
 // CSR bytes for n rows and nnz stored entries: 8 (n + 1) + (4 + 4) nnz.
 uint64_t sparseMatrixBytes(uint64_t rows, uint64_t nonzeros);
 
-// Sum of each row, accumulated in double.
+// Sum of each row, accumulated in double (rows in parallel, each in order: deterministic).
 std::vector<double> rowSums(const SparseMatrix& matrix);
 
 // What capRowSums did: rows scaled, and the largest row sum before.

@@ -160,10 +160,10 @@ void trimSegments(int count, const float* xi, const float* yi, const float* zi, 
                   float* __restrict weight) {
     for (int k = 0; k < count; ++k) {
         const float dx = xj[k] - xi[k], dy = yj[k] - yi[k], dz = zj[k] - zi[k];
-        const float leave = std::fabs(ni.x * dx + ni.y * dy + ni.z * dz);
-        const float arrive = std::fabs(nj.x * dx + nj.y * dy + nj.z * dz);
         const float cosI = ni.x * dx + ni.y * dy + ni.z * dz;
         const float cosJ = -(nj.x * dx + nj.y * dy + nj.z * dz);
+        const float leave = std::fabs(cosI);
+        const float arrive = std::fabs(cosJ);
         const float r2 = dx * dx + dy * dy + dz * dz;
         weight[k] = r2 > 0.0f && cosI > 0.0f && cosJ > 0.0f ? (cosI / r2) * (cosJ / r2) : 0.0f;
         float t0 = clearance / leave;  // +inf when leave = 0: empty below

@@ -41,10 +41,10 @@ DAISY_HD bool shadowSegment(uint pairSeedValue, int k, int rays, DAISY_IN(PatchG
     vec3 pj;
     visibilitySamplePair(pairSeedValue, k, rays, i, j, pi, pj);
     vec3 d = pj - pi;
-    float leave = abs(i.normal.x * d.x + i.normal.y * d.y + i.normal.z * d.z);
-    float arrive = abs(j.normal.x * d.x + j.normal.y * d.y + j.normal.z * d.z);
     float cosI = i.normal.x * d.x + i.normal.y * d.y + i.normal.z * d.z;
     float cosJ = -(j.normal.x * d.x + j.normal.y * d.y + j.normal.z * d.z);
+    float leave = abs(cosI);
+    float arrive = abs(cosJ);
     float r2 = d.x * d.x + d.y * d.y + d.z * d.z;
     weight = r2 > 0.0f && cosI > 0.0f && cosJ > 0.0f ? (cosI / r2) * (cosJ / r2) : 0.0f;
     // shadowSegments divides by zero (inf, then empty); GLSL leaves x / 0 undefined, so test.
