@@ -316,6 +316,11 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
                    "); solve ", solved.iterations, " iterations, residual ",
                    formatNumber(solved.residual, 3), solved.converged ? "" : " (not converged)"));
     logInfo(concat("  ", skippedSummary(s, formFactors)));
+    if (gather == GatherMode::Near) {
+        logInfo(concat("  near field: ", formatCount(imageTimes.nearPairs), " neighbour pairs, ",
+                       formatCount(imageTimes.exactNearPairs),
+                       " of them gathered exactly at every sample"));
+    }
     logInfo(concat("  peak memory: ", formatBytes(double(peakResidentBytes()))));
     return 0;
 }

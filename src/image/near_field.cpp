@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 
 #include "core/check.h"
@@ -29,7 +30,28 @@ constexpr float kMinExposedShare = 0.25f;
 // 2; its 16 children are patch_exposure.h's, in the same order.
 constexpr int kDivisions = 4;
 constexpr int kNodes = 15;
+constexpr std::size_t kPoints = kNodes + kPatchQuadraturePoints;  // nodes, then centroids
+constexpr uint32_t kNoProbes = 0xffffffffu;  // a candidate not checked at the centroids
 constexpr float kNodeInset = 1e-3f;  // share of the way to the centroid a node is moved
+// The same for a sample gathered exactly: off an edge it may lie on, where a neighbour across
+// the crease has its limit, and not much further (the factor changes fast near a neighbour).
+constexpr float kSampleInset = 1e-4f;
+
+// A patch's near field is gathered exactly at every sample (not interpolated on the lattice)
+// when, for some neighbour j, the lattice's interpolant of w F(x -> j) is off by more than this
+// at one of the 16 children's centroids, or j stands on the patch (standsOn): such a neighbour
+// lights a strip narrower than the lattice's spacing (a poster panel's 2 cm side on a wall,
+// docs/rendering.md). Every neighbour of the patch then, so errors of the interpolant that
+// cancel between neighbours (a node on the line where one wall patch meets the next) are not
+// left half in place.
+constexpr double kLatticeTolerance = 0.1;
+// On such a patch the 16-point rule's unoccluded mean, which the visibility F_ij / mean divides
+// by, can be as far off as the lattice: where it is (its interpolation error over a quarter of
+// the mean) and it would make the pair look occluded, the mean is taken from the hybrid kernel
+// of the view factors instead.
+constexpr double kRuleTolerance = 0.25;
+// A visibility within 5% of 1 is the rule's error, and 1.
+constexpr double kOpen = 0.95;
 
 constexpr int nodeIndex(int a, int b) {
     return 5 * a - a * (a - 1) / 2 + b;
@@ -37,7 +59,8 @@ constexpr int nodeIndex(int a, int b) {
 
 // Mean over the exposed children (bit q of `mask`) of the linear interpolant of the node values
 // values[k * stride]: each child's mean is its three nodes' mean. 0 without exposed children.
-double exposedMean(const double* values, std::size_t stride, uint16_t mask) {
+template <typename T>
+double exposedMean(const T* values, std::size_t stride, uint16_t mask) {
     double sum = 0;
     int q = 0, count = 0;
     const auto node = [&](int a, int b) { return values[std::size_t(nodeIndex(a, b)) * stride]; };
@@ -56,11 +79,101 @@ double exposedMean(const double* values, std::size_t stride, uint16_t mask) {
     return count > 0 ? sum / count : 0.0;
 }
 
-double exposedMean(const float* values, std::size_t stride, uint16_t mask) {
-    double copy[kNodes];
-    for (int k = 0; k < kNodes; ++k)
-        copy[k] = values[std::size_t(k) * stride];
-    return exposedMean(copy, 1, mask);
+// Largest |f(centroid) - interpolant(centroid)| over the exposed children (bit q of `mask`) of
+// one neighbour's values f at the nodes (f[0..14]) and the children's centroids (f[15..30]):
+// the interpolant's value at a child's centroid is its three nodes' mean.
+double latticeError(const double* f, uint16_t mask) {
+    double worst = 0;
+    int q = 0;
+    const auto node = [&](int a, int b) { return f[nodeIndex(a, b)]; };
+    const auto check = [&](double interpolated) {
+        if (mask & (1u << q)) worst = std::max(worst, std::abs(f[kNodes + q] - interpolated));
+        ++q;
+    };
+    for (int a = 0; a < kDivisions; ++a) {
+        for (int b = 0; a + b < kDivisions; ++b) {
+            check((node(a, b) + node(a + 1, b) + node(a, b + 1)) / 3);
+            if (a + b < kDivisions - 1)
+                check((node(a + 1, b) + node(a, b + 1) + node(a + 1, b + 1)) / 3);
+        }
+    }
+    return worst;
+}
+
+// The unoccluded factor from the exposed part of patch i (its children with a bit in `mask`) to
+// j, by the hybrid kernel of the view factors (shared/formfactor.h): the whole patch when all
+// is exposed, else the mean over the exposed children.
+double exposedUnoccludedFactor(const shared::PatchGeometry& i, const shared::PatchGeometry& j,
+                               uint16_t mask) {
+    constexpr int kLevel = 2;  // 16 cells before the kernel's own refinement
+    if (mask == 0xffff) return shared::pairFactorUnoccluded(DAISY_METHOD_HYBRID, kLevel, i, j);
+    const auto corner = [&](int a, int b) {
+        const float u = float(a) / kDivisions, v = float(b) / kDivisions;
+        return i.a * (1 - u - v) + i.b * u + i.c * v;
+    };
+    double sum = 0;
+    int q = 0, count = 0;
+    const auto child = [&](shared::vec3 p0, shared::vec3 p1, shared::vec3 p2) {
+        if (mask & (1u << q)) {
+            shared::PatchGeometry g = shared::makePatchGeometry(p0, p1, p2);
+            g.normal = i.normal;  // every other child winds the other way
+            g.area = i.area / kPatchQuadraturePoints;
+            sum += shared::pairFactorUnoccluded(DAISY_METHOD_HYBRID, 0, g, j);
+            ++count;
+        }
+        ++q;
+    };
+    for (int a = 0; a < kDivisions; ++a) {
+        for (int b = 0; a + b < kDivisions; ++b) {
+            child(corner(a, b), corner(a + 1, b), corner(a, b + 1));
+            if (a + b < kDivisions - 1)
+                child(corner(a + 1, b), corner(a, b + 1), corner(a + 1, b + 1));
+        }
+    }
+    return count > 0 ? sum / count : 0.0;
+}
+
+// True when an edge of patch j lies in patch i's plane and runs through i's interior (a panel or
+// a block standing on i): j's factor then peaks along a line inside i, narrower than the
+// lattice's spacing when j is small, and the 16-point check can miss the peak between its points.
+bool standsOn(const PatchMesh& patches, std::size_t i, std::size_t j) {
+    const auto& pi = patches.patches[i];
+    const Vec3d a = patches.positions[pi[0]], e1 = patches.positions[pi[1]] - a,
+                e2 = patches.positions[pi[2]] - a;
+    const Vec3d n = patches.normals[i];
+    const double size = std::sqrt(std::max({dot(e1, e1), dot(e2, e2), dot(e2 - e1, e2 - e1)}));
+    const double onPlane = 1e-3 * size, margin = 1e-3;
+    const double d00 = dot(e1, e1), d01 = dot(e1, e2), d11 = dot(e2, e2);
+    const double denominator = d00 * d11 - d01 * d01;
+    if (!(denominator > 0)) return false;
+    const auto barycentrics = [&](const Vec3d& p) {
+        const Vec3d d = p - a;
+        const double b = (d11 * dot(d, e1) - d01 * dot(d, e2)) / denominator;
+        const double c = (d00 * dot(d, e2) - d01 * dot(d, e1)) / denominator;
+        return std::array<double, 3>{1 - b - c, b, c};
+    };
+    const auto& pj = patches.patches[j];
+    for (int k = 0; k < 3; ++k) {
+        const Vec3d p = patches.positions[pj[std::size_t(k)]],
+                    q = patches.positions[pj[std::size_t((k + 1) % 3)]];
+        if (std::abs(dot(n, p - a)) > onPlane || std::abs(dot(n, q - a)) > onPlane) continue;
+        // The part of the segment p q at least `margin` inside every edge of i.
+        const auto lp = barycentrics(p), lq = barycentrics(q);
+        double lo = 0, hi = 1;
+        for (int c = 0; c < 3 && lo < hi; ++c) {
+            const double slope = lq[std::size_t(c)] - lp[std::size_t(c)];
+            const double start = lp[std::size_t(c)] - margin;
+            if (slope == 0) {
+                if (start < 0) hi = lo;
+            } else if (slope > 0) {
+                lo = std::max(lo, -start / slope);
+            } else {
+                hi = std::min(hi, -start / slope);
+            }
+        }
+        if (lo < hi) return true;
+    }
+    return false;
 }
 
 shared::vec3 toVec3(const Vec3d& v) {
@@ -108,6 +221,7 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
     field.coverage_.assign(n, 0.0);
     std::vector<shared::PatchGeometry> geometry(n);
     std::vector<shared::vec3> centroids(n);
+    std::vector<float> extents(n);  // the largest corner distance from the centroid
     std::vector<double> reflected(n * m);
     for (std::size_t p = 0; p < n; ++p) {
         const auto& c = patches.patches[p];
@@ -117,6 +231,9 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
         geometry[p].normal = toVec3(patches.normals[p]);  // the double-precision normal, area
         geometry[p].area = float(patches.areas[p]);
         centroids[p] = toVec3(patches.centroids[p]);
+        const shared::PatchGeometry& g = geometry[p];
+        extents[p] = std::max(
+            {length(g.a - centroids[p]), length(g.b - centroids[p]), length(g.c - centroids[p])});
         // The exposed part's reflected radiosity (patch_exposure.h); 0 for a buried patch.
         const double phi = field.exposed_[p];
         for (std::size_t k = 0; k < m; ++k)
@@ -126,16 +243,20 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
 
     // Per receiving patch: its near candidates (j with F_ij > 0 whose centroid can come
     // within R of a point of i), nearest first, each one's visibility and share of the nodes'
-    // Near and Omega, and their means over i's exposed children.
+    // Near and Omega (or, gathered exactly, of the per-sample list), and their means over i's
+    // exposed children.
     const float reach = float(field.radius_);
     const std::size_t stride = m + 1;
     std::vector<std::vector<float>> values(n);
     std::vector<std::size_t> pairs(n, 0);
+    std::vector<std::vector<ExactNeighbour>> exact(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const auto& range) {
         std::vector<std::pair<float, uint32_t>> candidates;
-        std::array<shared::vec3, kNodes> x{};
-        FarFieldScratch batch;  // the candidates' node factors, in SIMD lanes
+        std::array<shared::vec3, kPoints> x{};  // the nodes, then the children's centroids
+        FarFieldScratch batch;  // the candidates' factors at x, in SIMD lanes
         std::vector<float> factors;
+        std::vector<double> weighted;  // per candidate, w F at x
+        std::vector<uint32_t> probes;  // per candidate, its centroids' first factor, if any
         std::vector<double> sums(kNodes * stride);
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const double phi = field.exposed_[i];
@@ -145,8 +266,7 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
             if (!(reach > 0) || settings.maxNeighbours <= 0) continue;
             const shared::PatchGeometry& gi = geometry[i];
             const shared::vec3 ci = centroids[i];
-            const float extent =
-                std::max({length(gi.a - ci), length(gi.b - ci), length(gi.c - ci)});
+            const float extent = extents[i];
             candidates.clear();
             const float limit2 = (reach + extent) * (reach + extent);
             for (std::size_t e = 0; e < columns.size(); ++e) {
@@ -165,39 +285,101 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
                     x[std::size_t(nodeIndex(a, b))] = node + (ci - node) * kNodeInset;
                 }
             }
+            for (int q = 0; q < kPatchQuadraturePoints; ++q)
+                x[std::size_t(kNodes + q)] = patchQuadraturePoint(gi, q);
             const uint16_t mask = exposure.exposedPoints[i];
+            const int exposedChildren = std::popcount(mask);
             std::fill(sums.begin(), sums.end(), 0.0);
-            // shared::pointToTriangleFactor(x_k, n_i, j) for every candidate j and node k, in
-            // one batch (bit-identical, radiosity/hybrid_far_field.h).
+            // shared::pointToTriangleFactor(x_k, n_i, j) for every candidate j at the nodes, and
+            // at the children's centroids for the candidates near enough for the lattice to
+            // miss their light (its interpolant is off by about F h^2 / (8 d^2) at a distance d
+            // from j, h the nodes' spacing, about half the extent: beyond d = extent, by F / 32
+            // at most), in one batch (bit-identical, radiosity/hybrid_far_field.h).
             batch.points.clear();
+            probes.assign(candidates.size(), kNoProbes);
             for (const auto& candidate : candidates) {
                 for (int k = 0; k < kNodes; ++k)
                     batch.points.push_back(
                         {x[std::size_t(k)], &gi, &geometry[columns[candidate.second]]});
             }
+            for (std::size_t c = 0; c < candidates.size(); ++c) {
+                const uint32_t j = columns[candidates[c].second];
+                if (length(centroids[j] - ci) - extent - extents[j] > extent) continue;
+                probes[c] = uint32_t(batch.points.size());
+                for (std::size_t k = kNodes; k < kPoints; ++k)
+                    batch.points.push_back({x[k], &gi, &geometry[j]});
+            }
             factors.resize(batch.points.size());
             pointToTriangleFactors(batch, factors.data());
+            // w(|x - c_j|) F(x -> j) at the points, per candidate; the patch is gathered exactly
+            // per sample when the lattice cannot follow one of them (kLatticeTolerance).
+            weighted.resize(candidates.size() * kPoints);
+            bool exactPatch = false;
+            for (std::size_t c = 0; c < candidates.size(); ++c) {
+                const uint32_t j = columns[candidates[c].second];
+                double* f = weighted.data() + c * kPoints;
+                for (std::size_t k = 0; k < kPoints; ++k) {
+                    const bool node = k < std::size_t(kNodes);
+                    if (!node && probes[c] == kNoProbes) break;
+                    f[k] = field.windowWeight(length(x[k] - centroids[j])) *
+                        (node ? factors[c * kNodes + k] : factors[probes[c] + k - kNodes]);
+                }
+                exactPatch = exactPatch ||
+                    (probes[c] != kNoProbes &&
+                     (latticeError(f, mask) > kLatticeTolerance || standsOn(patches, i, j)));
+            }
             for (std::size_t c = 0; c < candidates.size(); ++c) {
                 const uint32_t e = candidates[c].second;
                 const uint32_t j = columns[e];
-                const float* factor = factors.data() + c * kNodes;
-                const double unoccluded = exposedMean(factor, 1, mask);
+                const double* f = weighted.data() + c * kPoints;
+                // The unoccluded exposed mean and that of w F by the children's centroids (the
+                // equal-area rule), by the lattice for far candidates, or by the hybrid kernel
+                // where the rule is off (kRuleTolerance).
+                double unoccluded = 0, windowed = 0;
+                if (probes[c] == kNoProbes) {
+                    unoccluded = exposedMean(factors.data() + c * kNodes, 1, mask);
+                    windowed = exposedMean(f, 1, mask);
+                } else {
+                    for (int q = 0; q < kPatchQuadraturePoints; ++q) {
+                        if (!((mask >> q) & 1u)) continue;
+                        unoccluded += factors[probes[c] + std::size_t(q)];
+                        windowed += f[kNodes + q];
+                    }
+                    unoccluded /= std::max(exposedChildren, 1);
+                    windowed /= std::max(exposedChildren, 1);
+                }
+                if (exactPatch && probes[c] != kNoProbes &&
+                    (!(unoccluded > 0) ||
+                     (fij[e] / phi < kOpen * unoccluded &&
+                      latticeError(f, mask) > kRuleTolerance * unoccluded))) {
+                    const double rule = unoccluded;
+                    unoccluded = exposedUnoccludedFactor(gi, geometry[j], mask);
+                    windowed = rule > 0
+                        ? windowed / rule * unoccluded
+                        : field.windowWeight(length(ci - centroids[j])) * unoccluded;
+                }
                 if (!(unoccluded > 0)) continue;
-                // F_ij of the exposed part over its unoccluded mean: the pair's visibility;
-                // within 5% of 1 it is the rule's error, and 1.
+                // F_ij of the exposed part over its unoccluded mean: the pair's visibility.
                 double visibility = std::min(1.0, fij[e] / phi / unoccluded);
-                if (visibility > 0.95) visibility = 1;
+                if (visibility > kOpen) visibility = 1;
+                ++pairs[i];
+                if (exactPatch) {
+                    exact[i].push_back({j, float(visibility)});
+                    const double share = visibility * windowed;
+                    for (std::size_t l = 0; l < m; ++l)
+                        field.patchMeans_[i * m + l] += share * reflected[j * m + l];
+                    field.coverage_[i] += share;
+                    continue;
+                }
                 for (int k = 0; k < kNodes; ++k) {
-                    const double w = field.windowWeight(length(x[std::size_t(k)] - centroids[j])) *
-                        visibility * factor[k];
+                    const double w = visibility * f[k];
                     double* node = sums.data() + std::size_t(k) * stride;
                     for (std::size_t l = 0; l < m; ++l)
                         node[l] += w * reflected[j * m + l];
                     node[m] += w;
                 }
-                ++pairs[i];
             }
-            if (pairs[i] == 0) continue;
+            if (pairs[i] == 0 || exactPatch) continue;
             for (std::size_t l = 0; l < m; ++l)
                 field.patchMeans_[i * m + l] = exposedMean(sums.data() + l, stride, mask);
             field.coverage_[i] = exposedMean(sums.data() + m, stride, mask);
@@ -208,6 +390,16 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
     for (const auto& v : values)
         total += v.size();
     field.nodes_.reserve(total);
+    field.firstExact_.assign(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        field.exact_.insert(field.exact_.end(), exact[i].begin(), exact[i].end());
+        field.firstExact_[i + 1] = uint32_t(field.exact_.size());
+    }
+    if (!field.exact_.empty()) {
+        field.geometry_ = std::move(geometry);
+        field.centroids_ = std::move(centroids);
+        field.reflected_ = std::move(reflected);
+    }
     for (std::size_t i = 0; i < n; ++i) {
         field.pairCount_ += pairs[i];
         if (values[i].empty()) continue;
@@ -265,7 +457,34 @@ double NearField::addIrradiance(uint32_t patch, float u, float v,
                                 std::span<double> irradiance) const {
     const std::size_t m = wavelengthCount_;
     DAISY_CHECK(irradiance.size() == m);
-    if (nodes_.empty() || firstNode_[patch] == kNoNodes) return 0;
+    if (empty()) return 0;
+    double omega = 0;
+    if (firstExact_[patch] != firstExact_[patch + 1]) {
+        // Gathered exactly at the sample itself.
+        const shared::PatchGeometry& gi = geometry_[patch];
+        const float w1 = std::clamp(u, 0.0f, 1.0f), w2 = std::clamp(v, 0.0f, 1.0f - w1);
+        shared::vec3 x = gi.a * (1 - w1 - w2) + gi.b * w1 + gi.c * w2;
+        x = x + (centroids_[patch] - x) * kSampleInset;
+        // The factors in SIMD lanes (radiosity/hybrid_far_field.h), per thread.
+        thread_local FarFieldScratch batch;
+        thread_local std::vector<float> factors;
+        const uint32_t first = firstExact_[patch], count = firstExact_[patch + 1] - first;
+        batch.points.resize(count);
+        for (uint32_t e = 0; e < count; ++e)
+            batch.points[e] = {x, &gi, &geometry_[exact_[first + e].patch]};
+        factors.resize(count);
+        pointToTriangleFactors(batch, factors.data());
+        for (uint32_t e = 0; e < count; ++e) {
+            const uint32_t j = exact_[first + e].patch;
+            const double w =
+                windowWeight(length(x - centroids_[j])) * exact_[first + e].visibility * factors[e];
+            for (std::size_t k = 0; k < m; ++k)
+                irradiance[k] += w * reflected_[j * m + k];
+            omega += w;
+        }
+        return omega;
+    }
+    if (firstNode_[patch] == kNoNodes) return 0;
     // The lattice triangle holding (u, v) and its linear weights.
     const float s = std::clamp(u, 0.0f, 1.0f) * kDivisions,
                 t = std::clamp(v, 0.0f, 1.0f) * kDivisions;
@@ -285,7 +504,6 @@ double NearField::addIrradiance(uint32_t patch, float u, float v,
     }
     const std::size_t stride = m + 1;
     const float* first = nodes_.data() + std::size_t(firstNode_[patch]) * stride;
-    double omega = 0;
     for (int c = 0; c < 3; ++c) {
         const float* node = first + std::size_t(corner[c]) * stride;
         const double w = weight[c];

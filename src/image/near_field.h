@@ -16,6 +16,9 @@
 // are evaluated at the 15 nodes of a 4 x 4 lattice on each patch (pulled 1e-3 towards the
 // centroid, so a node on a crease sees the neighbour's limit) and interpolated linearly per
 // sample: the image is exact at the nodes and has no per-sample cost beyond the interpolation.
+// A patch whose lattice cannot follow one of its neighbours (a small neighbour standing on it,
+// whose light falls on a strip narrower than the nodes' spacing) is evaluated exactly at each
+// sample instead, over all its neighbours (near_field.cpp: kLatticeTolerance).
 // The far part fills the rest of the hemisphere, 1 - Omega(x), with the patch's mean far
 // radiosity: with N_i and Omega_i the means of the interpolants over i,
 //     Far(x) = (1 - Omega(x)) (G_i - D_i - N_i) / (1 - Omega_i),
@@ -55,9 +58,9 @@ struct NearFieldSettings {
 
 class NearField {
 public:
-    // Per receiving patch: Near and Omega at its 15 lattice nodes over the patches j with
-    // F_ij > 0 that can lie within R of it, their means N_i and Omega_i over its exposed
-    // children. `radiosity`: the solved B
+    // Per receiving patch: Near and Omega at its 15 lattice nodes (or the list of neighbours
+    // it gathers exactly per sample) over the patches j with F_ij > 0 that can lie within R of
+    // it, their means N_i and Omega_i over its exposed children. `radiosity`: the solved B
     // (n x m, the system's layout). Parallel over patches (the caller's TBB arena);
     // deterministic.
     static NearField build(const PatchMesh& patches, const RadiositySystem& system,
@@ -81,11 +84,10 @@ public:
     // coverage). Precondition: setSmoothImage was called.
     void removeCovered(const SurfaceHit& hit, double omega, std::span<double> values) const;
 
-    bool empty() const { return nodes_.empty(); }
+    bool empty() const { return nodes_.empty() && exact_.empty(); }
     std::size_t pairCount() const { return pairCount_; }
-    std::size_t patchesWithNeighbours() const {
-        return nodes_.size() / (15 * (wavelengthCount_ + 1));
-    }
+    // The neighbour pairs of the patches gathered exactly at every sample (of pairCount()).
+    std::size_t exactPairCount() const { return exact_.size(); }
     double radius() const { return radius_; }
 
 private:
@@ -104,6 +106,17 @@ private:
     int channels_ = 0;
     std::vector<float> corners_;  // S per corner
     std::vector<float> emission_;  // E / pi per patch
+    // The patches gathered exactly per sample (no nodes): per patch, its first neighbour in
+    // exact_ (n + 1 entries; none for a lattice patch), and what the per-sample factor needs.
+    struct ExactNeighbour {
+        uint32_t patch;
+        float visibility;
+    };
+    std::vector<uint32_t> firstExact_;
+    std::vector<ExactNeighbour> exact_;
+    std::vector<shared::PatchGeometry> geometry_;  // these three only when exact_ is not empty
+    std::vector<shared::vec3> centroids_;
+    std::vector<double> reflected_;  // (B_j - E_j) / phi_j, n x m
 };
 
 }  // namespace daisy

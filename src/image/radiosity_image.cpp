@@ -56,6 +56,8 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
             near.toFarRadiosity(session.system(), smooth);
             weights = exposedAreas(session.patches(), **exposure);
             t.nearSeconds = nearTimer.seconds();
+            t.nearPairs = near.pairCount();
+            t.exactNearPairs = near.exactPairCount();
         }
         corners = cornerValues(session.patches(),
                                radiosityChannels(session.wavelengths(), smooth, spectral), channels,

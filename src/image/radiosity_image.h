@@ -27,6 +27,8 @@ struct RadiosityImageTimes {
     double nearSeconds = 0;  // the near field's lists and patch means (0 without)
     double gatherSeconds = 0;  // the per-sample final gather (0 without)
     std::size_t edgePixels = 0;  // pixels that took settings.edgeSamplesPerPixel samples
+    std::size_t nearPairs = 0;  // near-field neighbour pairs (Near only)
+    std::size_t exactNearPairs = 0;  // of them, gathered exactly at every sample
 };
 
 // Channels as Session::patchChannels ([L...] X Y Z coverage). Precondition: the session has F

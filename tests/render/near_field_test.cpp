@@ -124,6 +124,49 @@ TEST(NearFieldGather, ConcaveCornerMatchesThePointToPolygonClosedForm) {
     EXPECT_GT(atEdge, 0.4);
 }
 
+// A 2 cm fin standing on a floor of two big triangles (a poster panel's side on a wall): the
+// fin lights a strip of the floor narrower than the lattice's spacing (a quarter of the floor),
+// whose interpolant misses the strip's peak by a factor of several. Such a neighbour is
+// gathered exactly per sample, and the irradiance must follow Lambert's contour formula from
+// 1 mm to 0.3 m off the fin, and be 0 behind it.
+TEST(NearFieldGather, StripLitByAThinFinFollowsThePointToPolygonClosedForm) {
+    Scene scene;
+    scene.path = "fin";
+    verify::addQuad(scene.mesh, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0});  // floor, +z
+    const double x0 = 0.37, height = 0.02;
+    const std::vector<Vec3d> fin = {
+        {x0, 0.2, 0}, {x0, 0.8, 0}, {x0, 0.8, height}, {x0, 0.2, height}};
+    verify::addQuad(scene.mesh, fin[0], fin[1], fin[2], fin[3]);  // facing +x
+    scene.materials = {verify::flatMaterial("flat", 0.5, 0)};
+    Session session = solvedSession(std::move(scene), 0);
+    const PatchMesh& patches = session.patches();
+    ASSERT_EQ(patches.patchCount(), 4u);
+    std::vector<double> radiosity(4, 0.0);  // the fin's B = 1 (none emitted), the floor's 0
+    for (uint32_t p = 0; p < 4; ++p)
+        radiosity[p] = patches.normals[p].x > 0.99 ? 1.0 : 0.0;
+    auto exposure = patchExposure(patches);
+    ASSERT_TRUE(exposure.ok());
+    const NearField field = NearField::build(patches, session.system(), session.formFactors(),
+                                             radiosity, *exposure, NearFieldSettings{});
+    EXPECT_GT(field.exactPairCount(), 0u);
+    for (const double y : {0.35, 0.5, 0.7}) {
+        for (const double d : {0.001, 0.005, 0.02, 0.08, 0.3}) {
+            const FloorPoint at = floorPointAt(patches, x0 + d, y);
+            ASSERT_NE(at.patch, kNoPatch);
+            double irradiance = 0;
+            const double omega =
+                field.addIrradiance(at.patch, at.u, at.v, std::span<double>(&irradiance, 1));
+            const double exact = verify::pointToPolygon({x0 + d, y, 0}, {0, 0, 1}, fin);
+            EXPECT_NEAR(irradiance, exact, 0.01 * exact + 1e-5) << d << " " << y;
+            EXPECT_DOUBLE_EQ(omega, irradiance);
+        }
+        const FloorPoint behind = floorPointAt(patches, x0 - 0.01, y);
+        double irradiance = 0;
+        field.addIrradiance(behind.patch, behind.u, behind.v, std::span<double>(&irradiance, 1));
+        EXPECT_EQ(irradiance, 0.0);
+    }
+}
+
 TEST(NearFieldGather, WhiteFurnaceIsUniformWithTheNearFieldOn) {
     Scene scene;
     scene.path = "furnace";
