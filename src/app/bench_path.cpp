@@ -1,9 +1,12 @@
 // `daisy bench SCENE --reference path` (issue 16): run time against image error, measured
 // against the independent path tracer (pathtrace/path_tracer.h) instead of a finer daisy.
 //
-// - The reference: the path tracer at --reference-spp samples per pixel (seed 1) on the
-//   session's wavelength set, cached on disk (keyed by the scene file's bytes and the settings)
-//   with its per-pixel variance and its own time.
+// - The reference: the path tracer at --reference-spp samples per pixel on the session's
+//   wavelength set, in chunks of up to 1,024 spp with their own seeds (1000, 1001, ...), summed;
+//   the sums, the per-pixel variance and the time are cached on disk after every chunk (keyed
+//   by the scene file's bytes and the settings), so an interrupted reference resumes and a
+//   larger --reference-spp extends the cached one. --reference-noise stops it early once its
+//   relative RMS noise is under that level.
 // - The path tracer's error-time curve: fresh runs (seed 7, independent of the reference) at
 //   1, 4, 16, 64 and 256 spp.
 // - The radiosity rows: the automatic patch size (or --subdivide; labelled "auto") and two finer
@@ -31,6 +34,7 @@
 #include "bench/image_error.h"
 #include "core/atomic_file.h"
 #include "core/log.h"
+#include "core/progress.h"
 #include "core/strings.h"
 #include "core/timer.h"
 #include "image/camera.h"
@@ -42,7 +46,9 @@
 namespace daisy::app {
 namespace {
 
-constexpr uint32_t kReferenceSeed = 1;
+constexpr uint32_t kReferenceSeed = 1000;  // chunk c's seed is kReferenceSeed + c
+constexpr int kChunkSpp = 1024;
+constexpr int kQuickChunkSpp = 32;  // --quick: at most 64 spp, in chunks of 32
 constexpr uint32_t kCurveSeed = 7;
 constexpr double kTargetError = 0.02;  // the issue's 2% relative RMS luminance
 // The radiosity rows' images: final gather, samples per pixel and at edges (0 = uniform).
@@ -57,10 +63,14 @@ constexpr ImageSetting kImageSettings[] = {{GatherMode::None, 1, 0},    {GatherM
                                            {GatherMode::Direct, 1, 64}, {GatherMode::Near, 1, 16}};
 constexpr std::size_t kDefaultImage = 5;
 
+// The reference's chunk sums (what the cache holds) and the mean they give.
 struct Reference {
-    Image xyz;  // 3 channels
-    Image varianceY;
+    int chunks = 0;
     double seconds = 0;
+    std::vector<double> xyzSum;  // per pixel X Y Z, summed over chunks
+    std::vector<double> varianceSum;  // per pixel, the chunks' variances of their mean Y, summed
+    Image xyz;  // the mean, 3 channels
+    Image varianceY;  // of the mean: varianceSum / chunks^2
     double noise = 0;  // relative RMS noise over the kept pixels
 };
 
@@ -71,14 +81,6 @@ struct Row {
     uint64_t patches = 0;
     ImageError error;
 };
-
-Image xyzOf(const Image& channels, int xyzChannel) {
-    Image xyz(channels.width, channels.height, 3);
-    for (std::size_t p = 0; p < std::size_t(xyz.width) * xyz.height; ++p)
-        for (int c = 0; c < 3; ++c)
-            xyz.pixels[p * 3 + c] = channels.pixels[p * channels.channels + xyzChannel + c];
-    return xyz;
-}
 
 uint64_t referenceKey(const std::string& scenePath, const std::string& settings) {
     uint64_t hash = 14695981039346656037ull;
@@ -92,38 +94,63 @@ uint64_t referenceKey(const std::string& scenePath, const std::string& settings)
     return hash;
 }
 
-constexpr char kMagic[8] = {'D', 'R', 'P', 'T', 'R', 'E', 'F', '1'};
+constexpr char kMagic[8] = {'D', 'R', 'P', 'T', 'R', 'E', 'F', '2'};
 
 bool readReference(const std::string& path, uint64_t key, int width, int height, Reference& r) {
     std::ifstream in(path, std::ios::binary);
     char magic[8];
     uint64_t stored = 0;
-    int32_t size[2];
+    int32_t header[3];
     if (!in.read(magic, 8) || !std::equal(magic, magic + 8, kMagic)) return false;
     if (!in.read(reinterpret_cast<char*>(&stored), 8) || stored != key) return false;
-    if (!in.read(reinterpret_cast<char*>(size), 8) || size[0] != width || size[1] != height)
+    if (!in.read(reinterpret_cast<char*>(header), 12) || header[0] != width ||
+        header[1] != height || header[2] < 1)
         return false;
-    r.xyz = Image(width, height, 3);
-    r.varianceY = Image(width, height, 1);
-    in.read(reinterpret_cast<char*>(&r.seconds), 8);
-    in.read(reinterpret_cast<char*>(r.xyz.pixels.data()),
-            std::streamsize(r.xyz.pixels.size() * sizeof(float)));
-    in.read(reinterpret_cast<char*>(r.varianceY.pixels.data()),
-            std::streamsize(r.varianceY.pixels.size() * sizeof(float)));
-    return bool(in);
+    const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    Reference read;
+    read.chunks = header[2];
+    read.xyzSum.resize(pixels * 3);
+    read.varianceSum.resize(pixels);
+    in.read(reinterpret_cast<char*>(&read.seconds), 8);
+    in.read(reinterpret_cast<char*>(read.xyzSum.data()),
+            std::streamsize(read.xyzSum.size() * sizeof(double)));
+    in.read(reinterpret_cast<char*>(read.varianceSum.data()),
+            std::streamsize(read.varianceSum.size() * sizeof(double)));
+    if (!in) return false;
+    r = std::move(read);
+    return true;
 }
 
-Expected<void> writeReference(const std::string& path, uint64_t key, const Reference& r) {
+Expected<void> writeReference(const std::string& path, uint64_t key, int width, int height,
+                              const Reference& r) {
     return writeFileAtomically(path, [&](std::FILE* out) {
-        const int32_t size[2] = {r.xyz.width, r.xyz.height};
+        const int32_t header[3] = {width, height, r.chunks};
         std::fwrite(kMagic, 1, 8, out);
         std::fwrite(&key, 8, 1, out);
-        std::fwrite(size, 4, 2, out);
+        std::fwrite(header, 4, 3, out);
         std::fwrite(&r.seconds, 8, 1, out);
-        std::fwrite(r.xyz.pixels.data(), sizeof(float), r.xyz.pixels.size(), out);
-        std::fwrite(r.varianceY.pixels.data(), sizeof(float), r.varianceY.pixels.size(), out);
+        std::fwrite(r.xyzSum.data(), sizeof(double), r.xyzSum.size(), out);
+        std::fwrite(r.varianceSum.data(), sizeof(double), r.varianceSum.size(), out);
         return std::string();
     });
+}
+
+// The mean of the chunks, its variance and its relative RMS noise over `mask`.
+void finishReference(Reference& r, int width, int height, const std::vector<uint8_t>& mask) {
+    const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    const double n = r.chunks;
+    r.xyz = Image(width, height, 3);
+    r.varianceY = Image(width, height, 1);
+    Image withCoverage(width, height, 4);
+    for (std::size_t p = 0; p < pixels; ++p) {
+        for (int c = 0; c < 3; ++c) {
+            r.xyz.pixels[p * 3 + c] = float(r.xyzSum[p * 3 + c] / n);
+            withCoverage.pixels[p * 4 + c] = r.xyz.pixels[p * 3 + c];
+        }
+        withCoverage.pixels[p * 4 + 3] = 1;
+        r.varianceY.pixels[p] = float(r.varianceSum[p] / (n * n));
+    }
+    r.noise = relativeRmsNoise(withCoverage, 1, r.varianceY, mask);
 }
 
 // Time the path tracer needs for `target`: log-log interpolation between the first row under
@@ -179,7 +206,23 @@ int runPathBench(const CommonOptions& options, const BenchOptions& bench) {
         logError(first.error().message);
         return 2;
     }
-    const double autoEdge = first->patchMaxEdge();
+    // The finer rows' edge: the automatic patch size, or where that keeps the input triangles
+    // (0), the median triangle's longest edge.
+    double autoEdge = first->patchMaxEdge();
+    if (autoEdge == 0) {
+        const PatchMesh& patches = first->patches();
+        std::vector<double> longest(patches.patchCount());
+        for (std::size_t p = 0; p < longest.size(); ++p) {
+            const auto& c = patches.patches[p];
+            const Vec3d &a = patches.positions[c[0]], &b = patches.positions[c[1]],
+                        &d = patches.positions[c[2]];
+            longest[p] =
+                std::sqrt(std::max({dot(b - a, b - a), dot(d - b, d - b), dot(a - d, a - d)}));
+        }
+        const auto middle = longest.begin() + std::ptrdiff_t(longest.size() / 2);
+        std::nth_element(longest.begin(), middle, longest.end());
+        autoEdge = longest.empty() ? 0.0 : *middle;
+    }
     auto mask = emitterMask(first->patches(), first->system(), camera, size, size);
     if (!mask) {
         logError(concat(options.scenePath, ": ", mask.error().message));
@@ -192,43 +235,67 @@ int runPathBench(const CommonOptions& options, const BenchOptions& bench) {
         ? stemPath(csvPath, ".path-reference.bin")
         : (std::filesystem::path(options.cacheDir) / (stem + ".path-reference.bin")).string();
 
-    // The reference.
-    const int spp = bench.quick ? 64 : bench.referenceSpp;
+    // The reference: chunks until --reference-spp (rounded up to whole chunks) or, with
+    // --reference-noise, until its noise is under that; resumed from and saved to the cache.
+    const int total = bench.quick ? std::min(bench.referenceSpp, 64) : bench.referenceSpp;
+    const int chunkSpp = std::min(total, bench.quick ? kQuickChunkSpp : kChunkSpp);
+    const int chunks = (total + chunkSpp - 1) / chunkSpp;
+    const double noiseTarget = bench.referenceNoise / 100;
     const uint64_t key =
         referenceKey(options.scenePath,
-                     concat(size, " ", spp, " ", kReferenceSeed, " ", first->wavelengths().name(),
-                            " ", first->wavelengths().size()));
+                     concat(size, " ", chunkSpp, " ", kReferenceSeed, " ",
+                            first->wavelengths().name(), " ", first->wavelengths().size()));
     Reference reference;
     if (readReference(cachePath, key, size, size, reference)) {
-        logInfo(concat("bench: path-traced reference read from ", cachePath));
+        finishReference(reference, size, size, *mask);
+        logInfo(concat("bench: path-traced reference read from ", cachePath, " (",
+                       formatCount(uint64_t(reference.chunks) * uint64_t(chunkSpp)), " spp)"));
     } else {
-        logInfo(concat("bench: path tracing the reference (", size, " x ", size, ", ", spp,
-                       " spp); cached in ", cachePath));
+        reference.xyzSum.assign(std::size_t(size) * size * 3, 0.0);
+        reference.varianceSum.assign(std::size_t(size) * size, 0.0);
+    }
+    const auto converged = [&] {
+        return reference.chunks >= chunks ||
+            (noiseTarget > 0 && reference.chunks > 0 && reference.noise <= noiseTarget);
+    };
+    if (!converged()) {
+        logInfo(concat(
+            "bench: path tracing the reference (", size, " x ", size, ", up to ",
+            formatCount(uint64_t(chunks) * uint64_t(chunkSpp)), " spp in chunks of ", chunkSpp,
+            noiseTarget > 0 ? concat(", until its noise is under ", bench.referenceNoise, "%")
+                            : std::string(),
+            "); saved after each chunk in ", cachePath));
+    }
+    while (!converged()) {
         PathTraceSettings settings;
         settings.width = settings.height = size;
-        settings.samplesPerPixel = spp;
-        settings.seed = kReferenceSeed;
+        settings.samplesPerPixel = chunkSpp;
+        settings.seed = kReferenceSeed + uint32_t(reference.chunks);
         settings.threads = options.threads;
         auto traced = pathTrace(first->scene(), first->wavelengths(), camera, settings);
         if (!traced) {
             logError(concat(options.scenePath, ": ", traced.error().message));
             return 2;
         }
-        reference.xyz = xyzOf(traced->image, 0);
-        reference.varianceY = std::move(traced->varianceY);
-        reference.seconds = traced->seconds;
-        if (auto written = writeReference(cachePath, key, reference); !written)
-            logWarning(concat("bench: ", written.error().message));
-    }
-    {
-        Image withCoverage(size, size, 4);
         for (std::size_t p = 0; p < std::size_t(size) * size; ++p) {
             for (int c = 0; c < 3; ++c)
-                withCoverage.pixels[p * 4 + c] = reference.xyz.pixels[p * 3 + c];
-            withCoverage.pixels[p * 4 + 3] = 1;
+                reference.xyzSum[p * 3 + c] += traced->image.pixels[p * traced->image.channels + c];
+            reference.varianceSum[p] += traced->varianceY.pixels[p];
         }
-        reference.noise = relativeRmsNoise(withCoverage, 1, reference.varianceY, *mask);
+        ++reference.chunks;
+        reference.seconds += traced->seconds;
+        finishReference(reference, size, size, *mask);
+        if (auto written = writeReference(cachePath, key, size, size, reference); !written)
+            logWarning(concat("bench: ", written.error().message));
+        const int left = chunks - reference.chunks;
+        logInfo(concat("bench: reference chunk ", reference.chunks, " of ", chunks, " (seed ",
+                       settings.seed, "): ", formatNumber(traced->seconds, 3), " s, noise ",
+                       formatNumber(100 * reference.noise, 3), "%",
+                       left > 0
+                           ? concat(", at most ", formatDuration(left * traced->seconds), " to go")
+                           : std::string()));
     }
+    const int spp = reference.chunks * chunkSpp;
     const double exposure = autoExposureScale(reference.xyz);
     logInfo(concat("bench: reference ", spp, " spp, ", formatNumber(reference.seconds, 3),
                    " s, relative RMS noise ", formatNumber(100 * reference.noise, 3),
@@ -279,7 +346,7 @@ int runPathBench(const CommonOptions& options, const BenchOptions& bench) {
     for (const double divisor : divisors) {
         const Timer timer;
         SessionSettings settings = base;
-        settings.subdivideMaxEdge = autoEdge / divisor;
+        settings.subdivideMaxEdge = divisor == 1 ? first->patchMaxEdge() : autoEdge / divisor;
         auto session = Session::open(settings);
         if (!session) {
             logError(session.error().message);

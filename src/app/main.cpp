@@ -164,8 +164,15 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     benchCmd
         ->add_option("--reference-spp", bench.referenceSpp,
-                     "Samples per pixel of the path-traced reference")
+                     "Samples per pixel of the path-traced reference (at most; traced in chunks "
+                     "of 1,024, cached and resumed)")
         ->check(CLI::Range(1, 1 << 20))
+        ->capture_default_str();
+    benchCmd
+        ->add_option("--reference-noise", bench.referenceNoise,
+                     "Percent: stop the path-traced reference once its relative RMS noise is "
+                     "under this (0: run to --reference-spp)")
+        ->check(CLI::Range(0.0, 100.0))
         ->capture_default_str();
 
     const std::string first = argc > 1 ? argv[1] : "";

@@ -104,7 +104,8 @@ struct BenchOptions {
     // path (the default): against the path-traced reference (bench_path.h); daisy: the
     // settings sweep against a converged high-setting daisy solution (bench_sweep.h)
     std::string reference = "path";
-    int referenceSpp = 4096;  // samples per pixel of the path-traced reference
+    int referenceSpp = 4096;  // samples per pixel of the path-traced reference (at most)
+    double referenceNoise = 0;  // percent: the reference stops once its noise is under it
 };
 
 // Adds the scene argument and the common options to a subcommand.

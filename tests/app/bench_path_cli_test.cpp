@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <string>
@@ -87,6 +88,53 @@ TEST(BenchPathCli, MeasuresAgainstThePathTracedReference) {
     EXPECT_NE(second.output.find("path-traced reference read from"), std::string::npos)
         << second.output;
     EXPECT_EQ(rmsBySetting(csv).at("path,1 spp"), rows.at("path,1 spp"));  // deterministic
+}
+
+// The reference is traced in chunks with their own seeds and saved after each one: a run
+// asking for more samples than the cache holds traces only the missing chunks, and the result
+// is bit for bit the one a fresh run gives (the same chunks, summed in the same order);
+// --reference-noise stops at the first chunk whose noise is under it.
+TEST(BenchPathCli, ReferenceResumesFromItsCachedChunks) {
+    const auto dir = test::testTempDir();
+    const std::string scene = test::assetPath("scenes/cornell_box.gltf");
+    const auto bench = [&](const std::string& name, const std::string& extra) {
+        return runDaisy("bench " + scene + " --reference path --quick --subdivide 0.3 -o " +
+                        (dir / (name + ".csv")).string() + " " + extra);
+    };
+    const RunResult partial = bench("resumed", "--reference-spp 32");
+    ASSERT_EQ(partial.status, 0) << partial.output;
+    EXPECT_NE(partial.output.find("reference chunk 1 of 1 (seed 1000)"), std::string::npos)
+        << partial.output;
+    const RunResult resumed = bench("resumed", "--reference-spp 64");
+    ASSERT_EQ(resumed.status, 0) << resumed.output;
+    EXPECT_NE(resumed.output.find("reference read from"), std::string::npos) << resumed.output;
+    EXPECT_NE(resumed.output.find("(32 spp)"), std::string::npos) << resumed.output;
+    EXPECT_EQ(resumed.output.find("reference chunk 1 of"), std::string::npos) << resumed.output;
+    EXPECT_NE(resumed.output.find("reference chunk 2 of 2 (seed 1001)"), std::string::npos)
+        << resumed.output;
+    const RunResult fresh = bench("fresh", "--reference-spp 64");
+    ASSERT_EQ(fresh.status, 0) << fresh.output;
+    EXPECT_NE(fresh.output.find("reference chunk 1 of 2 (seed 1000)"), std::string::npos);
+    // The cache files without their time (8 bytes after the 28-byte header): the sums.
+    const auto sums = [&](const std::string& name) {
+        std::ifstream in(dir / (name + ".path-reference.bin"), std::ios::binary);
+        std::string bytes(std::istreambuf_iterator<char>(in), {});
+        return bytes.size() > 36 ? bytes.erase(28, 8) : std::string();
+    };
+    EXPECT_FALSE(sums("fresh").empty());
+    EXPECT_TRUE(sums("resumed") == sums("fresh"));
+    const auto rms = rmsBySetting((dir / "resumed.csv").string());
+    for (const auto& [setting, value] : rmsBySetting((dir / "fresh.csv").string())) {
+        if (setting.rfind("radiosity", 0) == 0) {
+            EXPECT_EQ(rms.at(setting), value) << setting;
+        }
+    }
+
+    const RunResult early = bench("noisy", "--reference-spp 64 --reference-noise 99");
+    ASSERT_EQ(early.status, 0) << early.output;
+    EXPECT_NE(early.output.find("reference chunk 1 of 2"), std::string::npos) << early.output;
+    EXPECT_EQ(early.output.find("reference chunk 2 of 2"), std::string::npos) << early.output;
+    EXPECT_NE(early.output.find("bench: reference 32 spp"), std::string::npos) << early.output;
 }
 
 }  // namespace
