@@ -100,7 +100,8 @@ Expected<double> writeRendered(const RenderOptions& render, const Exposure& expo
     if (format == ImageFormat::Png) {
         Image srgb = xyzToLinearSrgb(xyz, scale);
         addBackground(srgb, rendered, xyzChannel + 3, background);
-        written = writePng(render.outputPath, srgb.width, srgb.height, toSrgb8(srgb));
+        written =
+            writePng(render.outputPath, srgb.width, srgb.height, toSrgb8(srgb, Rounding::Dithered));
     } else {
         // Float files are scene-referred: linear sRGB radiance, no exposure.
         Image linear = xyzToLinearSrgb(xyz, 1.0);

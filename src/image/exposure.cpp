@@ -7,6 +7,7 @@
 
 #include "core/check.h"
 #include "core/strings.h"
+#include "shared/rng.h"
 #include "spectral/color.h"
 
 namespace daisy {
@@ -79,13 +80,20 @@ Image xyzToLinearSrgb(const Image& xyz, double scale) {
     return rgb;
 }
 
-std::vector<uint8_t> toSrgb8(const Image& linearSrgb) {
+std::vector<uint8_t> toSrgb8(const Image& linearSrgb, Rounding rounding) {
     DAISY_CHECK(linearSrgb.channels == 3);
     std::vector<uint8_t> bytes(linearSrgb.pixels.size());
-    for (std::size_t i = 0; i < bytes.size(); ++i) {
-        const double v = linearSrgb.pixels[i];
-        const double encoded = std::isnan(v) ? 0.0 : srgbEncode(v);  // srgbEncode clamps
-        bytes[i] = static_cast<uint8_t>(std::lround(encoded * 255));
+    for (std::size_t pixel = 0; pixel < bytes.size() / 3; ++pixel) {
+        // (h + 1/2) / 2^32 - 1/2 lies strictly inside (-1/2, 1/2): a whole byte k stays k.
+        const double offset = rounding == Rounding::Dithered
+            ? (double(shared::pcgHash(uint32_t(pixel) ^ 0x9e3779b9u)) + 0.5) * 0x1p-32 - 0.5
+            : 0.0;
+        for (std::size_t c = 0; c < 3; ++c) {
+            const double v = linearSrgb.pixels[3 * pixel + c];
+            const double encoded = std::isnan(v) ? 0.0 : srgbEncode(v);  // srgbEncode clamps
+            bytes[3 * pixel + c] =
+                static_cast<uint8_t>(std::clamp(std::lround(encoded * 255 + offset), 0L, 255L));
+        }
     }
     return bytes;
 }

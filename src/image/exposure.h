@@ -35,8 +35,17 @@ double exposureScale(const Exposure& exposure, const Image& xyz);
 // the 8-bit conversion clips.
 Image xyzToLinearSrgb(const Image& xyz, double scale);
 
+// How toSrgb8 rounds. `Nearest`: each value to the nearest byte (what comparisons of images
+// measure). `Dithered`: each pixel's encoded values (in units of one byte) plus one offset in
+// (-1/2, 1/2) from a hash of the pixel's position, the same for its three channels, then to the
+// nearest byte: a smooth gradient spanning a few bytes (a dim wall) no longer shows the steps
+// of 8 bits as bands, the mean of any area is kept, values that are whole bytes (black, white,
+// a flat colour that lands on a byte) are unchanged, and the same image always gives the same
+// bytes. For image files people look at.
+enum class Rounding { Nearest, Dithered };
+
 // Linear sRGB (3 channels) -> 8-bit sRGB with the IEC 61966-2-1 transfer curve, clipped to
-// [0, 1], rounded to nearest: width * height * 3 bytes.
-std::vector<uint8_t> toSrgb8(const Image& linearSrgb);
+// [0, 1], rounded as `rounding` says: width * height * 3 bytes.
+std::vector<uint8_t> toSrgb8(const Image& linearSrgb, Rounding rounding = Rounding::Nearest);
 
 }  // namespace daisy

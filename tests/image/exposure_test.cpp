@@ -95,5 +95,56 @@ TEST(ImageExposure, Srgb8KnownValues) {
     EXPECT_EQ(bytes, expected);
 }
 
+// The linear value whose sRGB encoding is `code` / 255 (code may be fractional).
+float linearOfCode(double code) {
+    return float(srgbDecode(code / 255.0));
+}
+
+// A dim ramp from byte 24 to byte 28 over 256 columns (the default render's tall block is such a
+// ramp): rounded to nearest it is 5 flat bands, up to half a byte off; dithered, every byte is
+// one of the two around its value and the mean of each 8-column block (512 pixels) is the
+// block's exact mean within the dither's sampling error (at most 0.5 / sqrt(512) = 0.022 byte,
+// so 0.1 is 4.5 sd), and the image is the same every time.
+TEST(ImageExposure, DitheredRampKeepsEveryBlocksMeanWithoutBands) {
+    const int width = 256, height = 64, block = 8;
+    Image rgb(width, height, 3);
+    std::vector<double> code(width);
+    for (int x = 0; x < width; ++x) {
+        code[std::size_t(x)] = 24.0 + 4.0 * x / (width - 1);
+        for (int y = 0; y < height; ++y) {
+            for (int c = 0; c < 3; ++c)
+                rgb.at(x, y)[c] = linearOfCode(code[std::size_t(x)]);
+        }
+    }
+    const std::vector<uint8_t> nearest = toSrgb8(rgb);
+    const std::vector<uint8_t> dithered = toSrgb8(rgb, Rounding::Dithered);
+    EXPECT_EQ(dithered, toSrgb8(rgb, Rounding::Dithered));  // deterministic
+    double worstNearest = 0, worstDithered = 0;
+    for (int x0 = 0; x0 < width; x0 += block) {
+        double exact = 0, sumNearest = 0, sumDithered = 0;
+        for (int x = x0; x < x0 + block; ++x) {
+            exact += code[std::size_t(x)] / block;
+            for (int y = 0; y < height; ++y) {
+                const std::size_t p = 3 * (std::size_t(y) * width + x);
+                EXPECT_EQ(dithered[p], dithered[p + 1]);  // one offset for the pixel's channels
+                EXPECT_EQ(dithered[p], dithered[p + 2]);
+                EXPECT_LE(std::abs(double(dithered[p]) - code[std::size_t(x)]), 1.0 + 1e-4);
+                sumNearest += nearest[p];
+                sumDithered += dithered[p];
+            }
+        }
+        const double pixels = double(block) * height;
+        worstNearest = std::max(worstNearest, std::abs(sumNearest / pixels - exact));
+        worstDithered = std::max(worstDithered, std::abs(sumDithered / pixels - exact));
+    }
+    EXPECT_GT(worstNearest, 0.4);  // the bands
+    EXPECT_LT(worstDithered, 0.1);
+    // Whole bytes, black and white are not moved.
+    Image flat(3, 1, 3);
+    flat.pixels = {0, 0, 0, 1, 1, 1, linearOfCode(100), linearOfCode(100), linearOfCode(100)};
+    EXPECT_EQ(toSrgb8(flat, Rounding::Dithered),
+              (std::vector<uint8_t>{0, 0, 0, 255, 255, 255, 100, 100, 100}));
+}
+
 }  // namespace
 }  // namespace daisy
