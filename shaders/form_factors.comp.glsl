@@ -17,8 +17,9 @@ layout(local_size_x = DAISY_PAIR_WORKGROUP_SIZE) in;
 
 // Specialised per build (vulkan_backend.cpp): the method and the level fold to constants, so a
 // pipeline holds only its method's kernel, and kMode picks the unoccluded factors
-// (DAISY_PAIR_MODE_FACTORS, no BVH code) or V_ij alone (DAISY_PAIR_MODE_VISIBILITY, no
-// quadrature). It matters on lavapipe, which runs both sides of every branch (masked SIMD).
+// (DAISY_PAIR_MODE_FACTORS, no BVH code), V_ij alone (DAISY_PAIR_MODE_VISIBILITY, no
+// quadrature) or the hybrid factors without the refinement (DAISY_PAIR_MODE_FAR_FIELD). It
+// matters on lavapipe, which runs both sides of every branch (masked SIMD).
 layout(constant_id = 0) const int kMethod = DAISY_METHOD_HYBRID;
 layout(constant_id = 1) const int kLevel = DAISY_DEFAULT_QUADRATURE_LEVEL;
 layout(constant_id = 2) const int kMode = DAISY_PAIR_MODE_FACTORS;
@@ -47,6 +48,8 @@ void main() {
                                       params.rays, params.seed, params.clearance, nodes, triangles);
         f.fij = v;
         f.fji = v;
+    } else if (kMode == DAISY_PAIR_MODE_FAR_FIELD) {
+        f = pairEntryFarField(patches.v[pair.i], patches.v[pair.j], kLevel);
     } else {
         f = pairEntry(pair.i, pair.j, patches.v[pair.i], patches.v[pair.j], kMethod, kLevel, 0,
                       params.seed, params.clearance, nodes, triangles);

@@ -44,9 +44,16 @@
 
 // What one specialisation of the pair kernel (shaders/form_factors.comp.glsl) computes per pair:
 // the unoccluded factors alone, or V_ij alone (in both fields), so that the vulkan backend runs
-// the quadrature only for pairs some ray reaches (lavapipe runs every branch of a shader).
+// the quadrature only for pairs some ray reaches (lavapipe runs every branch of a shader); or
+// the hybrid method's unoccluded factors without the adaptive refinement's code
+// (pairEntryFarField, shared/pair_kernel.h), DAISY_FF_NEEDS_NEAR_CELLS for the pairs that need it.
 #define DAISY_PAIR_MODE_FACTORS 0
 #define DAISY_PAIR_MODE_VISIBILITY 1
+#define DAISY_PAIR_MODE_FAR_FIELD 2
+
+// What hybridPairFactorWith(..., false) returns for a pair with a near cell (and
+// pairEntryFarField in both entries): no factor is negative by more than rounding.
+#define DAISY_FF_NEEDS_NEAR_CELLS (-1.0f)
 
 // Invocations per workgroup of the pair kernel (shaders/form_factors.comp.glsl); the host
 // dispatches ceil(pairCount / DAISY_PAIR_WORKGROUP_SIZE) groups.

@@ -287,7 +287,13 @@ DAISY_HD float cellError(DAISY_IN(QuadratureCell) cell, float share, uint shared
 // device that runs every branch (lavapipe) or waits for its slowest lane (any GPU) then pays for
 // the children a pair really needs, not for every call site of the rule.
 // Preconditions: i.area > 0, j.area > 0.
-DAISY_HD float hybridPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j) {
+// `nearCells` false compiles the refinement out (a constant at every call site): a pair with a
+// near cell then returns DAISY_FF_NEEDS_NEAR_CELLS as soon as it meets one, and any other pair
+// the value it has with nearCells true (nothing listed: the refinement changes nothing). A
+// device that runs every branch of a shader, masked (lavapipe), then evaluates a far pair without
+// paying for the refinement's code (docs/backends.md, "The far-field pass").
+DAISY_HD float hybridPairFactorWith(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j,
+                                    bool nearCells) {
     ClippedPolygon piece = clipTriangleToHalfSpace(i.a, i.b, i.c, j.a, j.normal);
     if (piece.count < 3) return 0.0f;
     vec3 jCentre = patchCentroid(j);
@@ -339,6 +345,7 @@ DAISY_HD float hybridPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(P
             } else if (ratio >= DAISY_FF_MID_RATIO) {
                 fixedPart += share * (sum * (1.0f / 3.0f));
             } else {
+                if (!nearCells) return DAISY_FF_NEEDS_NEAR_CELLS;
                 float value = sum * (1.0f / 3.0f);
                 if (count < DAISY_FF_MAX_CELLS) {
                     list[count].code = uint(t);
@@ -352,6 +359,7 @@ DAISY_HD float hybridPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(P
             }
         }
     }
+    if (!nearCells) return fixedPart;
     // Listed cells whose children are still to be evaluated: `current` (child `unit` next),
     // then slot `pendingFirst` when >= 0, then the slots [pendingNext, pendingEnd).
     int pendingFirst = -1;
@@ -439,19 +447,29 @@ DAISY_HD float hybridPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(P
     return 0.0f;
 }
 
+DAISY_HD float hybridPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j) {
+    return hybridPairFactorWith(level, i, j, true);
+}
+
 // Unoccluded F_ij (fraction of the energy leaving i that arrives at j) by `method`
 // (DAISY_METHOD_*), with quadrature level `level` (clamped to 0..DAISY_MAX_QUADRATURE_LEVEL).
 // The caller chooses the direction: i gets the quadrature points (the accurate choice is the
 // smaller patch; pairFactors makes it). The stochastic method has no unoccluded kernel (its rays
-// carry visibility): it returns 0, as do unknown methods and facingAway pairs.
-DAISY_HD float pairFactorUnoccluded(int method, int level, DAISY_IN(PatchGeometry) i,
-                                    DAISY_IN(PatchGeometry) j) {
+// carry visibility): it returns 0, as do unknown methods and facingAway pairs. `nearCells` is
+// hybridPairFactorWith's (pairFactorUnoccluded: true).
+DAISY_HD float pairFactorUnoccludedWith(int method, int level, DAISY_IN(PatchGeometry) i,
+                                        DAISY_IN(PatchGeometry) j, bool nearCells) {
     if (facingAway(i, j)) return 0.0f;
     int l = clamp(level, 0, DAISY_MAX_QUADRATURE_LEVEL);
     if (method == DAISY_METHOD_RIEMANN) return riemannPairFactor(l, i, j);
     if (method == DAISY_METHOD_NUSSELT) return nusseltPairFactor(i, j);
-    if (method == DAISY_METHOD_HYBRID) return hybridPairFactor(l, i, j);
+    if (method == DAISY_METHOD_HYBRID) return hybridPairFactorWith(l, i, j, nearCells);
     return 0.0f;
+}
+
+DAISY_HD float pairFactorUnoccluded(int method, int level, DAISY_IN(PatchGeometry) i,
+                                    DAISY_IN(PatchGeometry) j) {
+    return pairFactorUnoccludedWith(method, level, i, j, true);
 }
 
 // Both unoccluded factors of the unordered pair {i, j}: computed once in the accurate direction
@@ -459,15 +477,20 @@ DAISY_HD float pairFactorUnoccluded(int method, int level, DAISY_IN(PatchGeometr
 // reciprocity A_i F_ij = A_j F_ji (DESIGN.md section 3). Swapping i and j swaps the results.
 // The kernel has one call site: a compiler would otherwise inline the hybrid rule twice, with a
 // refinement list each (twice the per-thread stack under nvcc), and a SIMD device that runs
-// both sides of a branch (lavapipe) would evaluate it twice per pair.
-DAISY_HD PairFactors pairFactors(int method, int level, DAISY_IN(PatchGeometry) i,
-                                 DAISY_IN(PatchGeometry) j) {
+// both sides of a branch (lavapipe) would evaluate it twice per pair. `nearCells` is
+// hybridPairFactorWith's: false gives both entries DAISY_FF_NEEDS_NEAR_CELLS for a hybrid pair
+// with a near cell (pairFactors: true).
+DAISY_HD PairFactors pairFactorsWith(int method, int level, DAISY_IN(PatchGeometry) i,
+                                     DAISY_IN(PatchGeometry) j, bool nearCells) {
     bool swapped = patchPrecedes(j, i);
     PatchGeometry first = swapped ? j : i;
     PatchGeometry second = swapped ? i : j;
-    float f = pairFactorUnoccluded(method, level, first, second);
+    float f = pairFactorUnoccludedWith(method, level, first, second, nearCells);
     PairFactors factors;
-    if (swapped) {
+    if (!nearCells && f == DAISY_FF_NEEDS_NEAR_CELLS) {
+        factors.fij = f;
+        factors.fji = f;
+    } else if (swapped) {
         factors.fji = f;
         factors.fij = f * (j.area / i.area);
     } else {
@@ -475,6 +498,11 @@ DAISY_HD PairFactors pairFactors(int method, int level, DAISY_IN(PatchGeometry) 
         factors.fji = f * (i.area / j.area);
     }
     return factors;
+}
+
+DAISY_HD PairFactors pairFactors(int method, int level, DAISY_IN(PatchGeometry) i,
+                                 DAISY_IN(PatchGeometry) j) {
+    return pairFactorsWith(method, level, i, j, true);
 }
 
 DAISY_SHARED_END

@@ -52,6 +52,22 @@ DAISY_HD PairFactors pairEntry(uint i, uint j, DAISY_IN(PatchGeometry) gi,
     return f;
 }
 
+// pairEntry(i, j, gi, gj, DAISY_METHOD_HYBRID, level, 0, ...) without the hybrid rule's adaptive
+// refinement (pairFactorsWith(..., false), formfactor.h): the same two factors, bit for bit, for
+// a pair none of whose quadrature cells is near the other patch (most pairs of a room at the
+// default level), and DAISY_FF_NEEDS_NEAR_CELLS in both entries for the others, which the caller
+// then sends through pairEntry. On a device that runs every branch masked (lavapipe) the
+// refinement's code costs every pair as much as a near pair's (docs/backends.md).
+DAISY_HD PairFactors pairEntryFarField(DAISY_IN(PatchGeometry) gi, DAISY_IN(PatchGeometry) gj,
+                                       int level) {
+    PairFactors f = pairFactorsWith(DAISY_METHOD_HYBRID, level, gi, gj, false);
+    if (f.fij != DAISY_FF_NEEDS_NEAR_CELLS) {
+        f.fij = max(0.0f, f.fij);
+        f.fji = max(0.0f, f.fji);
+    }
+    return f;
+}
+
 DAISY_SHARED_END
 
 #endif  // DAISY_SHARED_PAIR_KERNEL_H

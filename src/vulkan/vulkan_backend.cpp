@@ -4,8 +4,10 @@
 // shaders/form_factors.comp.glsl over them in dispatches short enough for a display watchdog, and
 // downloads the factors: pairs with rays in two passes, V first and then the quadrature for the
 // pairs some segment gets through, each pass a pipeline specialised to the method, level and mode
-// (docs/backends.md). Every buffer stays within the device's maxStorageBufferRange (128 MiB on
-// lavapipe): batches are sized to it, and a scene whose patch or BVH arrays exceed it is refused.
+// (docs/backends.md); the hybrid quadrature itself in two, without the adaptive refinement and
+// then with it for the pairs that have a near cell. Every buffer stays within the device's
+// maxStorageBufferRange (128 MiB on lavapipe): batches are sized to it, and a scene whose patch
+// or BVH arrays exceed it is refused.
 #include "vulkan/vulkan_backend.h"
 
 #include <algorithm>
@@ -197,19 +199,49 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
         }
         download(context_, resultBuffer, out.data(), out.size_bytes());
     };
+    // The unoccluded factors of pairs into out. Hybrid: every pair through the pipeline without
+    // the refinement first (DAISY_PAIR_MODE_FAR_FIELD), then those it marks as having a near cell
+    // through the whole kernel; the same factors as the whole kernel on every pair, bit for bit
+    // (shared/pair_kernel.h, pairEntryFarField).
+    std::vector<PairIndex> near;
+    std::vector<uint32_t> nearSlot;
+    std::vector<PairFactors> nearFactors;
+    uint64_t nearPairs = 0;
+    const auto runFactors = [&](std::span<const PairIndex> pairs, std::span<PairFactors> out) {
+        if (params.method != DAISY_METHOD_HYBRID) {
+            run(pairs, DAISY_PAIR_MODE_FACTORS, out);
+            return;
+        }
+        run(pairs, DAISY_PAIR_MODE_FAR_FIELD, out);
+        near.clear();
+        nearSlot.clear();
+        for (std::size_t k = 0; k < pairs.size(); ++k) {
+            if (out[k].fij == DAISY_FF_NEEDS_NEAR_CELLS) {
+                near.push_back(pairs[k]);
+                nearSlot.push_back(uint32_t(k));
+            }
+        }
+        nearPairs += near.size();
+        if (near.empty()) return;
+        nearFactors.resize(near.size());
+        run(near, DAISY_PAIR_MODE_FACTORS, nearFactors);
+        for (std::size_t k = 0; k < near.size(); ++k)
+            out[nearSlot[k]] = nearFactors[k];
+    };
     // Pairs with rays: V_ij first, then the quadrature only for the pairs some ray reaches, and
     // F = factor * V in float, as pairEntry rounds it (shared/pair_kernel.h).
     std::vector<PairFactors> visibility, factors;
     std::vector<PairIndex> open;
     std::vector<uint32_t> openSlot;
     double factorSeconds = 0, visibilitySeconds = 0;
-    uint64_t tracedPairs = 0, openPairs = 0;
+    uint64_t tracedPairs = 0, openPairs = 0, factorPairs = 0;
     const PairKernelBatch evaluate = [&](std::span<const PairIndex> pairs, int rays,
                                          std::span<PairFactors> out) -> Expected<void> {
         params.rays = rays;
         if (rays == 0) {
             const auto start = Clock::now();
-            run(pairs, DAISY_PAIR_MODE_FACTORS, out);
+            runFactors(pairs, out);
+            factorPairs += pairs.size();
             factorSeconds += secondsSince(start);
             return {};
         }
@@ -231,7 +263,8 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
         if (open.empty()) return {};
         start = Clock::now();
         factors.resize(open.size());
-        run(open, DAISY_PAIR_MODE_FACTORS, factors);
+        runFactors(open, factors);
+        factorPairs += open.size();
         for (std::size_t k = 0; k < open.size(); ++k) {
             const float v = visibility[openSlot[k]].fij;
             out[openSlot[k]] = PairFactors{factors[k].fij * v, factors[k].fji * v};
@@ -243,7 +276,9 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
     logVerbose(concat("vulkan: ", formatCount(tracedPairs), " traced pairs' visibility in ",
                       formatDuration(visibilitySeconds), ", the factors of ",
                       formatCount(openPairs), " of them and of every clear pair in ",
-                      formatDuration(factorSeconds)));
+                      formatDuration(factorSeconds), " (", formatCount(nearPairs), " of those ",
+                      formatCount(factorPairs), " with a near cell, whose factors are the whole ",
+                      "hybrid kernel's; the others' without its refinement)"));
     release();
     return result;
 }

@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <vector>
 
 #include "shared/formfactor.h"
+#include "shared/pair_kernel.h"
 #include "verify/closed_forms.h"
 
 namespace daisy::shared {
@@ -309,6 +311,59 @@ TEST(FormFactorPair, CoplanarPairsFarFromTheOriginAreZero) {
         }
     }
     EXPECT_EQ(nonzero, 0);
+}
+
+// The vulkan backend's far-field pass (pairEntryFarField, shared/pair_kernel.h): for every pair
+// it gives pairEntry's factors at rays = 0 (pairFactors clamped at 0) bit for bit, or asks for
+// the whole kernel in both entries. Random triangle pairs from touching to 1000 sizes apart
+// (most pairs of a room are far), levels 0..3, and triangles sharing an edge, which always have a
+// near cell: every one of those asks, no pair 20 sizes or more apart does, and both kinds occur.
+TEST(FormFactorPair, FarFieldPassGivesTheWholeKernelsFactorsOrAsksForIt) {
+    std::mt19937 rng(77);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    std::uniform_real_distribution<float> logDistance(-1.0f, 3.0f);
+    const auto triangle = [&](vec3 centre, float size) {
+        const auto corner = [&]() { return centre + vec3(u(rng), u(rng), u(rng)) * size; };
+        return makePatchGeometry(corner(), corner(), corner());
+    };
+    int answered = 0, asked = 0;
+    const auto check = [&](const PatchGeometry& i, const PatchGeometry& j, int level) {
+        PairFactors want = pairFactors(DAISY_METHOD_HYBRID, level, i, j);
+        want.fij = max(0.0f, want.fij);
+        want.fji = max(0.0f, want.fji);
+        const PairFactors got = pairEntryFarField(i, j, level);
+        if (got.fij == DAISY_FF_NEEDS_NEAR_CELLS) {
+            EXPECT_EQ(got.fji, DAISY_FF_NEEDS_NEAR_CELLS);
+            ++asked;
+            return false;
+        }
+        EXPECT_EQ(got.fij, want.fij);
+        EXPECT_EQ(got.fji, want.fji);
+        ++answered;
+        return true;
+    };
+    for (int k = 0; k < 4000; ++k) {
+        const float size = 0.05f + 0.2f * (u(rng) + 1.0f);
+        const PatchGeometry i = triangle(vec3(0.0f), size);
+        const float distance = size * std::pow(10.0f, logDistance(rng));
+        const vec3 direction = normalize(vec3(u(rng), u(rng), u(rng)) + vec3(0, 0, 1e-3f));
+        const PatchGeometry j = triangle(direction * distance, size);
+        if (!(i.area > 1e-6f && j.area > 1e-6f)) continue;
+        for (int level : {0, 1, 2, 3}) {
+            const bool far = distance >= 20.0f * 2.0f * std::sqrt(3.0f) * size;
+            if (!check(i, j, level) && far) ADD_FAILURE() << "far pair " << k << " asked";
+        }
+    }
+    // Perpendicular squares sharing an edge (Howell C-14): every floor triangle shares the
+    // corner at the origin with every wall triangle, so some cell of each pair touches the other.
+    for (const PatchGeometry& i : kFloor.t) {
+        for (const PatchGeometry& j : kWall.t) {
+            for (int level : {0, 1, 2})
+                EXPECT_FALSE(check(i, j, level));
+        }
+    }
+    EXPECT_GT(answered, 8000);
+    EXPECT_GT(asked, 500);
 }
 
 }  // namespace
