@@ -174,29 +174,42 @@ float longestOf(vec3 a, vec3 b, vec3 c) {
         shared::max(shared::max(shared::dot(a, a), shared::dot(b, b)), shared::dot(c, c)));
 }
 
+FarFieldPatch farFieldPatch(const PatchGeometry& t) {
+    const vec3 centroid = shared::patchCentroid(t);
+    return {centroid, longestOf(t.a - centroid, t.b - centroid, t.c - centroid),
+            0.5f * shared::length(shared::cross(t.b - t.a, t.c - t.a)),
+            longestOf(t.b - t.a, t.c - t.b, t.a - t.c)};
+}
+
+bool same(vec3 x, vec3 y) {
+    return x.x == y.x && x.y == y.y && x.z == y.z;
+}
+
 // Appends the cells and points of shared::hybridPairFactor(level, i, j) to the scratch when no
 // cell is near j (the result is then the fixed part: share times the centroid value of each far
 // cell or the threePointRule of each middle one, summed in cell order) and returns true; returns
 // false, appending nothing, when the pair needs the shared kernel (a near cell, L > 2). The
 // prologue is that function's (the clip of i to j's front half-space, the roots, whether a root
-// is one cell, the cells and their distance ratios), by the same expressions. An empty piece
-// plans no cells (F = 0).
-bool planHybridPair(int level, const PatchGeometry& i, const PatchGeometry& j, FarFieldScratch& s) {
+// is one cell, the cells and their distance ratios), by the same expressions, with pi and pj
+// (farFieldPatch of i and j) for what depends on a whole patch alone: j's centre and radius, and
+// i's root when the piece is i itself (wholly in front of j: clipTriangleToHalfSpace returns its
+// corners). An empty piece plans no cells (F = 0).
+bool planHybridPair(int level, const PatchGeometry& i, const PatchGeometry& j,
+                    const FarFieldPatch& pi, const FarFieldPatch& pj, FarFieldScratch& s) {
     const int cells = 1 << (2 * level);
     if (cells > kMaxCellsPerRoot) return false;
     const ClippedPolygon piece = shared::clipTriangleToHalfSpace(i.a, i.b, i.c, j.a, j.normal);
     if (piece.count < 3) return true;
+    const bool whole =
+        piece.count == 3 && same(piece.v[0], i.a) && same(piece.v[1], i.b) && same(piece.v[2], i.c);
     const std::size_t pointMark = s.points.size();
     const std::size_t cellMark = s.cells.size();
-    const vec3 jCentre = shared::patchCentroid(j);
-    float jRadius = -1.0f;  // the shared kernel's, computed when first needed
     // distanceLowerBound(x) / diameter >= bound, as the shared kernel decides it. It is max(plane
     // distance, sphere distance): far by the plane alone is far by it (division by the positive
-    // diameter is monotone and commutes with max), without the sphere's square root.
+    // diameter is monotone and commutes with max), without the sphere (nor pj's cache line).
     const auto atLeast = [&](vec3 x, float diameter, float bound) {
         if (shared::abs(shared::dot(j.normal, x - j.a)) / diameter >= bound) return true;
-        if (jRadius < 0.0f) jRadius = longestOf(j.a - jCentre, j.b - jCentre, j.c - jCentre);
-        return shared::distanceLowerBound(x, j, jCentre, jRadius) / diameter >= bound;
+        return shared::distanceLowerBound(x, j, pj.centroid, pj.radius) / diameter >= bound;
     };
     // One cell: its centroid x (far) or threePointRule's points (middle).
     const auto addCell = [&](vec3 a, vec3 b, vec3 c, vec3 x, bool isFar, float share) {
@@ -215,9 +228,10 @@ bool planHybridPair(int level, const PatchGeometry& i, const PatchGeometry& j, F
         const vec3 ra = piece.v[0];
         const vec3 rb = piece.v[r + 1];
         const vec3 rc = piece.v[r + 2];
-        const float rootArea = 0.5f * shared::length(shared::cross(rb - ra, rc - ra));
-        const float rootDiameter = longestOf(rb - ra, rc - rb, ra - rc);
-        const vec3 rootCentre = (ra + rb + rc) * (1.0f / 3.0f);
+        const float rootArea =
+            whole ? pi.rootArea : 0.5f * shared::length(shared::cross(rb - ra, rc - ra));
+        const float rootDiameter = whole ? pi.rootDiameter : longestOf(rb - ra, rc - rb, ra - rc);
+        const vec3 rootCentre = whole ? pi.centroid : (ra + rb + rc) * (1.0f / 3.0f);
         if (atLeast(rootCentre, rootDiameter, DAISY_FF_MID_RATIO)) {  // the root is one cell
             addCell(ra, rb, rc, rootCentre, atLeast(rootCentre, rootDiameter, DAISY_FF_FAR_RATIO),
                     rootArea * 1.0f * 1.0f / i.area);
@@ -246,8 +260,8 @@ bool planHybridPair(int level, const PatchGeometry& i, const PatchGeometry& j, F
 // method for pairs[k], planned into the scratch or, where planning fails, the shared kernel's;
 // facingAway tested only when `testFacing` (a candidate pair has passed it already).
 void hybridPairFactors(int level, std::span<const PatchGeometry> geometry,
-                       std::span<const PairIndex> pairs, bool testFacing,
-                       std::span<shared::PairFactors> out, FarFieldScratch& s) {
+                       std::span<const FarFieldPatch> patches, std::span<const PairIndex> pairs,
+                       bool testFacing, std::span<shared::PairFactors> out, FarFieldScratch& s) {
     const int l = shared::clamp(level, 0, DAISY_MAX_QUADRATURE_LEVEL);
     s.points.clear();
     s.cells.clear();
@@ -258,10 +272,13 @@ void hybridPairFactors(int level, std::span<const PatchGeometry> geometry,
         const bool swapped = shared::patchPrecedes(j, i);
         const PatchGeometry& first = swapped ? j : i;
         const PatchGeometry& second = swapped ? i : j;
+        const uint32_t firstIndex = swapped ? pairs[k].j : pairs[k].i;
+        const uint32_t secondIndex = swapped ? pairs[k].i : pairs[k].j;
         float direct = 0.0f;  // the unoccluded factor first -> second, when not planned
         bool planned = false;
         if (!(testFacing && shared::facingAway(first, second))) {
-            planned = planHybridPair(l, first, second, s);
+            planned =
+                planHybridPair(l, first, second, patches[firstIndex], patches[secondIndex], s);
             if (!planned) direct = shared::hybridPairFactor(l, first, second);
         }
         s.pairs.push_back({planned ? uint32_t(s.cells.size()) : kNotPlanned, direct});
@@ -304,10 +321,12 @@ shared::PairFactors onePair(int method, int level, const PatchGeometry& i, const
                             bool testFacing) {
     if (method != DAISY_METHOD_HYBRID) return shared::pairFactors(method, level, i, j);
     const PatchGeometry geometry[2] = {i, j};
+    const FarFieldPatch patches[2] = {farFieldPatch(i), farFieldPatch(j)};
     const PairIndex pair{0u, 1u};
     shared::PairFactors f;
     FarFieldScratch scratch;
-    hybridPairFactors(level, geometry, std::span(&pair, 1), testFacing, std::span(&f, 1), scratch);
+    hybridPairFactors(level, geometry, patches, std::span(&pair, 1), testFacing, std::span(&f, 1),
+                      scratch);
     return f;
 }
 
@@ -340,9 +359,17 @@ shared::PairFactors candidatePairFactorsCpu(int method, int level, const PatchGe
     return onePair(method, level, i, j, false);
 }
 
+std::vector<FarFieldPatch> farFieldPatches(std::span<const PatchGeometry> geometry) {
+    std::vector<FarFieldPatch> patches;
+    patches.reserve(geometry.size());
+    for (const PatchGeometry& t : geometry)
+        patches.push_back(farFieldPatch(t));
+    return patches;
+}
+
 void candidateFactorsCpu(int method, int level, std::span<const PatchGeometry> geometry,
-                         std::span<const PairIndex> pairs, std::span<float> fij,
-                         FarFieldScratch& scratch) {
+                         std::span<const FarFieldPatch> patches, std::span<const PairIndex> pairs,
+                         std::span<float> fij, FarFieldScratch& scratch) {
     if (method != DAISY_METHOD_HYBRID) {
         for (std::size_t k = 0; k < pairs.size(); ++k) {
             const float f =
@@ -352,7 +379,7 @@ void candidateFactorsCpu(int method, int level, std::span<const PatchGeometry> g
         return;
     }
     scratch.factors.resize(pairs.size());
-    hybridPairFactors(level, geometry, pairs, false, scratch.factors, scratch);
+    hybridPairFactors(level, geometry, patches, pairs, false, scratch.factors, scratch);
     for (std::size_t k = 0; k < pairs.size(); ++k)
         fij[k] = scratch.factors[k].fij > 0.0f ? scratch.factors[k].fij : 0.0f;
 }

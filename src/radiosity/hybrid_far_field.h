@@ -38,6 +38,21 @@ struct FarFieldScratch {
     std::vector<shared::PairFactors> factors;
 };
 
+// What the far-field planner needs of a whole patch, computed once by the shared kernel's own
+// expressions on its corners, so a pair whose clipped piece is the whole patch (most pairs)
+// reads them instead of computing them again, bit-identical: the centroid (patchCentroid), the
+// longest distance from it to a corner (hybridPairFactor's jRadius), and the whole triangle as a
+// root (its rootArea and rootDiameter). Not PatchGeometry::area, which may be the mesh's.
+struct FarFieldPatch {
+    shared::vec3 centroid;
+    float radius;
+    float rootArea;
+    float rootDiameter;
+};
+
+// farFieldPatches(g)[p] for every patch g[p].
+std::vector<FarFieldPatch> farFieldPatches(std::span<const shared::PatchGeometry> geometry);
+
 // out[k] = shared::pointToTriangleFactor(p.position, p.receiver->normal, *p.target) for every
 // point p = s.points[k], bit-identical, in SSE or AVX2 lanes (the final gather's lights use it
 // too). s.values is not touched.
@@ -54,8 +69,9 @@ shared::PairFactors candidatePairFactorsCpu(int method, int level, const shared:
 
 // fij[k] = max(0, candidatePairFactorsCpu(method, level, geometry[pairs[k].i],
 // geometry[pairs[k].j]).fij) for every k, the far cells of all the pairs evaluated together.
-// fij.size() >= pairs.size().
+// patches = farFieldPatches(geometry); fij.size() >= pairs.size().
 void candidateFactorsCpu(int method, int level, std::span<const shared::PatchGeometry> geometry,
+                         std::span<const FarFieldPatch> patches,
                          std::span<const shared::PairIndex> pairs, std::span<float> fij,
                          FarFieldScratch& scratch);
 

@@ -39,6 +39,7 @@ public:
     RayPairEvaluator(const PatchMesh& mesh, const FormFactorSettings& settings,
                      const RayCaster& rays)
         : geometry_(detail::kernelGeometry(mesh)),
+          farField_(farFieldPatches(geometry_)),
           rays_(rays),
           method_(detail::methodConstant(settings.method)),
           level_(settings.quadratureLevel),
@@ -56,7 +57,7 @@ public:
                               for (std::size_t k = range.begin(); k < range.end(); k += grain) {
                                   const std::size_t end = std::min(range.end(), k + grain);
                                   if (rays == 0) {
-                                      candidateFactorsCpu(method_, level_, geometry_,
+                                      candidateFactorsCpu(method_, level_, geometry_, farField_,
                                                           pairs.subspan(k, end - k), fij.subspan(k),
                                                           scratch_.local().farField);
                                   } else {
@@ -90,8 +91,8 @@ private:
                 scratch.openPairs.push_back(pairs[p]);
         }
         scratch.openFactors.resize(scratch.openPairs.size());
-        candidateFactorsCpu(method_, level_, geometry_, scratch.openPairs, scratch.openFactors,
-                            scratch.farField);
+        candidateFactorsCpu(method_, level_, geometry_, farField_, scratch.openPairs,
+                            scratch.openFactors, scratch.farField);
         std::size_t s = 0;
         std::size_t next = 0;
         for (std::size_t p = 0; p < pairs.size(); ++p) {
@@ -114,6 +115,7 @@ private:
     }
 
     std::vector<PatchGeometry> geometry_;
+    std::vector<FarFieldPatch> farField_;  // farFieldPatches(geometry_)
     const RayCaster& rays_;
     int method_;
     int level_;

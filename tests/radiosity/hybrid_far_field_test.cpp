@@ -86,7 +86,8 @@ TEST(HybridFarField, BatchOfPairsIsBitIdenticalToTheSharedKernel) {
     FarFieldScratch scratch;
     for (int level : {0, 1, 2}) {
         std::vector<float> got(pairs.size(), -1.0f);
-        candidateFactorsCpu(DAISY_METHOD_HYBRID, level, geometry, pairs, got, scratch);
+        candidateFactorsCpu(DAISY_METHOD_HYBRID, level, geometry, farFieldPatches(geometry), pairs,
+                            got, scratch);
         int positive = 0;
         for (std::size_t k = 0; k < pairs.size(); ++k) {
             const float want =
