@@ -17,6 +17,7 @@
 
 #include "core/atomic_file.h"
 #include "core/check.h"
+#include "core/memory.h"
 #include "core/strings.h"
 
 namespace daisy {
@@ -165,9 +166,11 @@ bool readExactly(std::FILE* file, void* data, std::size_t bytes) {
     return bytes == 0 || std::fread(data, 1, bytes, file) == bytes;
 }
 
+// Into storage advised for huge pages (core/memory.h): F's arrays are hundreds of MB, and the
+// read's copy into 4 KiB pages took a page fault each (a virtual machine's exit).
 template <typename T, typename Allocator>
 bool readArray(std::FILE* file, std::vector<T, Allocator>& values, uint64_t count) {
-    values.resize(count);
+    resizeOnHugePages(values, count);
     return readExactly(file, values.data(), count * sizeof(T));
 }
 
