@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <utility>
 
 #include "core/check.h"
+#include "shared/formfactor.h"
 
 namespace daisy {
 
@@ -147,6 +149,38 @@ std::vector<LightTriangle> mergeEmitterFaces(const TriangleMesh& mesh,
         }
     }
     return lights;
+}
+
+namespace {
+
+// True when every corner of `corners` is below the plane through `anchor` with unit normal `n`
+// by more than twice (planeEpsilon of the corners' distance from the anchor plus `reach`, and
+// coordinateEpsilon of the corners and the anchor).
+bool whollyBelow(const shared::vec3 (&corners)[3], shared::vec3 n, shared::vec3 anchor,
+                 float reach) {
+    float height = -std::numeric_limits<float>::infinity();
+    float distance = 0;
+    float coordinates = 0;
+    for (const shared::vec3& c : corners) {
+        height = std::max(height, shared::dot(n, c - anchor));
+        distance = std::max(distance, shared::length(c - anchor));
+        coordinates = std::max(coordinates, shared::coordinateEpsilon(c, anchor));
+    }
+    return height < -2.0f * (shared::planeEpsilon(distance + reach) + coordinates);
+}
+
+}  // namespace
+
+bool lightHiddenFrom(const shared::PatchGeometry& receiver, const shared::PatchGeometry& light) {
+    const shared::vec3 r[3] = {receiver.a, receiver.b, receiver.c};
+    const shared::vec3 l[3] = {light.a, light.b, light.c};
+    // The light's corners are clipped against the plane through x, anywhere on the receiver:
+    // their distances from x reach up to the receiver's diameter beyond those from its corner a.
+    const float diameter =
+        std::max({shared::length(receiver.b - receiver.a), shared::length(receiver.c - receiver.b),
+                  shared::length(receiver.a - receiver.c)});
+    return whollyBelow(r, light.normal, light.a, 0.0f) ||
+        whollyBelow(l, receiver.normal, receiver.a, diameter);
 }
 
 }  // namespace daisy

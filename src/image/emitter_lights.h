@@ -15,6 +15,7 @@
 
 #include "geometry/mesh.h"
 #include "geometry/vec3.h"
+#include "shared/gpu_types.h"
 
 namespace daisy {
 
@@ -33,5 +34,15 @@ struct LightTriangle {
 std::vector<LightTriangle> mergeEmitterFaces(const TriangleMesh& mesh,
                                              std::span<const uint32_t> triangles,
                                              std::span<const uint32_t> emissionClass);
+
+// True when shared::pointToTriangleFactor(x, receiver.normal, light) is exactly 0 at every point
+// x of the receiver triangle (its float corners; x may be rounded to float from a point inside):
+// the receiver lies wholly behind the light's plane (the factor's first test fails), or the
+// light wholly behind the receiver's plane (its clip to x's front half-space is empty). Each
+// side must clear the plane by twice the tolerances the factor applies and the rounding of the
+// coordinates (shared/formfactor.h: planeEpsilon over the distances that can occur,
+// coordinateEpsilon), so a grazing pair is never called hidden. receiver.normal is the normal
+// the caller passes to the factor. For skipping lights a patch cannot see (the final gather).
+bool lightHiddenFrom(const shared::PatchGeometry& receiver, const shared::PatchGeometry& light);
 
 }  // namespace daisy

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <span>
 
 #include "backend/embree_ray_caster.h"
 #include "core/check.h"
@@ -143,15 +144,48 @@ uint64_t shadowMark(uint32_t light, bool open) {
     return uint64_t(open ? 1 : 2) << (2 * (light % 32));
 }
 
+// Per patch, the lights not hidden from it (lightHiddenFrom, image/emitter_lights.h): on the
+// black-light box half of its 20 lights are hidden from a typical patch, so a sample's exact
+// weights take one batch of SIMD lanes instead of two.
+struct PatchLights {
+    std::vector<uint32_t> first;  // patch count + 1: patch p's lights are [first[p], first[p + 1])
+    std::vector<uint32_t> lights;  // indices into the light list, ascending per patch
+
+    std::span<const uint32_t> of(uint32_t patch) const {
+        return std::span(lights).subspan(first[patch], first[patch + 1] - first[patch]);
+    }
+};
+
+// The receiver as the gather sees it: the patch's corners in float and the normal it passes to
+// the factor.
+PatchLights lightsSeenByPatches(const PatchMesh& patches, const std::vector<Light>& lights) {
+    PatchLights seen;
+    seen.first.reserve(patches.patchCount() + 1);
+    seen.first.push_back(0);
+    for (uint32_t p = 0; p < patches.patchCount(); ++p) {
+        const auto& c = patches.patches[p];
+        shared::PatchGeometry receiver = shared::makePatchGeometry(toVec3(patches.positions[c[0]]),
+                                                                   toVec3(patches.positions[c[1]]),
+                                                                   toVec3(patches.positions[c[2]]));
+        receiver.normal = toVec3(patches.normals[p]);
+        for (uint32_t l = 0; l < lights.size(); ++l) {
+            if (!lightHiddenFrom(receiver, lights[l].geometry)) seen.lights.push_back(l);
+        }
+        seen.first.push_back(uint32_t(seen.lights.size()));
+    }
+    return seen;
+}
+
 // One thread's estimate of H(x) = sum_l E_l F(x -> l) V(x, l) over the lights, sample by sample
 // (final_gather.h): the draw of k shadow segments over the lights' distribution, their points,
 // the rays and the per-light kernel-weighted visibility.
 class LightSampler {
 public:
-    LightSampler(const std::vector<Light>& lights, const std::vector<const double*>& spectra,
-                 std::size_t wavelengths, bool exactWeights, const EmbreeRayCaster& tracer,
-                 int maxSegments)
+    LightSampler(const std::vector<Light>& lights, const PatchLights& seen,
+                 const std::vector<const double*>& spectra, std::size_t wavelengths,
+                 bool exactWeights, const EmbreeRayCaster& tracer, int maxSegments)
         : lights_(lights),
+          seen_(seen),
           spectra_(spectra),
           m_(wavelengths),
           exactWeights_(exactWeights),
@@ -165,8 +199,6 @@ public:
           tally_(lights.size()),
           spectrumWeight_(spectra.size()) {
         segments_.resize(blocked_.size());
-        for (const Light& light : lights)
-            batch_.points.push_back({{}, &receiver_, &light.geometry});
     }
 
     // A new pixel: each light's points start its stratified stream again, and the approximate
@@ -242,10 +274,17 @@ private:
     // or the stand-in) times its power, and its CDF.
     void weigh(shared::vec3 x, shared::vec3 n, uint32_t patch) {
         if (exactWeights_) {
+            // The lights the patch can see, in SIMD lanes; the others' factor is exactly 0.
             receiver_.normal = n;
-            for (auto& point : batch_.points)
-                point.position = x;
-            pointToTriangleFactors(batch_, factor_.data());
+            const std::span<const uint32_t> seen = seen_.of(patch);
+            batch_.points.clear();
+            for (const uint32_t l : seen)
+                batch_.points.push_back({x, &receiver_, &lights_[l].geometry});
+            values_.resize(seen.size());
+            pointToTriangleFactors(batch_, values_.data());
+            std::fill(factor_.begin(), factor_.end(), 0.0f);
+            for (std::size_t k = 0; k < seen.size(); ++k)
+                factor_[seen[k]] = values_[k];
         }
         total_ = 0;
         for (std::size_t l = 0; l < lights_.size(); ++l) {
@@ -296,6 +335,7 @@ private:
     }
 
     const std::vector<Light>& lights_;
+    const PatchLights& seen_;  // per patch, the lights it can see (exact weights only)
     const std::vector<const double*>& spectra_;  // the emission of each Light::spectrum
     std::size_t m_;
     bool exactWeights_;
@@ -305,13 +345,14 @@ private:
     std::vector<uint32_t> chosen_;  // per segment: its light
     std::vector<float> kernel_;  // per segment: pointKernel
     std::vector<float> factor_;  // per light: the draw's factor (exact or the stand-in)
+    std::vector<float> values_;  // per seen light: its exact factor from the batch
     std::vector<double> cdf_;
     std::vector<int> picks_;  // per light: points taken from its stream in this pixel
     std::vector<LightTally> tally_;
     std::vector<uint32_t> touched_;  // the lights this sample drew
     std::vector<double> spectrumWeight_;
     shared::PatchGeometry receiver_{};  // the batch's receiver: only its normal is read
-    FarFieldScratch batch_;  // the lights as points of one factor batch (hybrid_far_field.h)
+    FarFieldScratch batch_;  // the seen lights as points of one factor batch (hybrid_far_field.h)
     uint32_t weightsPatch_ = kNoPatch;  // the patch factor_ and cdf_ were made for
     double total_ = 0;
 };
@@ -445,6 +486,7 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
     // faces are merged): a cheap approximation picks the lights and only the picked ones get
     // the exact factor.
     const bool exactWeights = lights.size() <= kExactLightLimit;
+    const PatchLights seen = exactWeights ? lightsSeenByPatches(patches, lights) : PatchLights{};
     std::vector<const double*> spectra;  // the emission of each Light::spectrum
     for (const Light& light : lights) {
         if (light.spectrum >= spectra.size()) spectra.resize(light.spectrum + 1, nullptr);
@@ -478,7 +520,7 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
         };
         std::vector<Ray> rays(rowSamples);
         std::vector<SurfaceHit> hits(rowSamples);
-        LightSampler sampler(lights, spectra, m, exactWeights, tracer, maxK * pass.rayFactor);
+        LightSampler sampler(lights, seen, spectra, m, exactWeights, tracer, maxK * pass.rayFactor);
         std::vector<double> irradiance(m), reflected(m), sum(static_cast<std::size_t>(channels));
         std::vector<double> sampleValues(std::size_t(xyzChannel) + 3);
         for (int y = rows.begin(); y != rows.end(); ++y) {

@@ -1,7 +1,8 @@
 // The final gather's merged emitter faces (image/emitter_lights.h): a tessellated flat convex
 // face becomes a fan over its outline with the same area and, from any receiver point, the same
 // exact factor as its triangles (additivity of Lambert's contour formula); anything that is not
-// one flat convex face of one emission is kept as it is.
+// one flat convex face of one emission is kept as it is. A light hidden from a patch has an
+// exact factor of 0 from every point of it, and lights that graze the patch are not hidden.
 #include "image/emitter_lights.h"
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "shared/formfactor.h"
+#include "shared/rng.h"
 
 namespace daisy {
 namespace {
@@ -119,6 +121,101 @@ TEST(EmitterLights, DifferentEmissionsPlanesAndConcaveOutlinesAreKept) {
     EXPECT_EQ(lights[0].sourceTriangle, 0u);
     EXPECT_EQ(lights[1].sourceTriangle, 1u);
     EXPECT_NEAR(areaOf(lights), 2.0, 1e-12);
+}
+
+shared::vec3 randomPoint(uint32_t& state, float scale) {
+    const auto u = [&]() {
+        state = shared::pcgHash(state);
+        return shared::uintToUnitFloat(state) * 2.0f - 1.0f;
+    };
+    const float x = u(), y = u(), z = u();
+    return shared::vec3{x, y, z} * scale;
+}
+
+// Points of the receiver where the factor is evaluated: its corners, edge midpoints, centroid
+// and random barycentric points, each rounded to float as the gather's points are.
+std::vector<shared::vec3> pointsOn(const shared::PatchGeometry& t, uint32_t& state) {
+    std::vector<shared::vec3> points = {t.a,
+                                        t.b,
+                                        t.c,
+                                        (t.a + t.b) * 0.5f,
+                                        (t.b + t.c) * 0.5f,
+                                        (t.c + t.a) * 0.5f,
+                                        (t.a + t.b + t.c) * (1.0f / 3.0f)};
+    for (int k = 0; k < 24; ++k) {
+        state = shared::pcgHash(state);
+        double u = shared::uintToUnitFloat(state);
+        state = shared::pcgHash(state);
+        double v = shared::uintToUnitFloat(state);
+        if (u + v > 1) u = 1 - u, v = 1 - v;
+        const auto at = [&](float a, float b, float c) {
+            return float((1 - u - v) * double(a) + u * double(b) + v * double(c));
+        };
+        points.push_back(
+            {at(t.a.x, t.b.x, t.c.x), at(t.a.y, t.b.y, t.c.y), at(t.a.z, t.b.z, t.c.z)});
+    }
+    return points;
+}
+
+TEST(EmitterLights, AHiddenLightHasAZeroFactorFromEveryPointOfThePatch) {
+    uint32_t state = 12345;
+    int hidden = 0, seen = 0;
+    for (int trial = 0; trial < 4000; ++trial) {
+        // Receivers and lights of sizes 1e-3..1 around an offset up to 1e3 from the origin; half
+        // of the lights moved just under the receiver's plane, by 1e-6..1e-2 of its size, across
+        // the predicate's margin (about 4e-5 of the distances).
+        const float scale = std::pow(10.0f, -3.0f * float(trial % 4) / 3.0f);
+        const shared::vec3 offset = randomPoint(state, trial % 3 == 0 ? 1000.0f : 1.0f);
+        const shared::PatchGeometry receiver = shared::makePatchGeometry(
+            offset + randomPoint(state, scale), offset + randomPoint(state, scale),
+            offset + randomPoint(state, scale));
+        shared::vec3 c[3] = {offset + randomPoint(state, 3 * scale),
+                             offset + randomPoint(state, 3 * scale),
+                             offset + randomPoint(state, 3 * scale)};
+        if (trial % 2 == 1) {  // onto the receiver's plane, then under it
+            const float below = scale * std::pow(10.0f, -6.0f + float(trial % 9) * 0.5f);
+            for (shared::vec3& corner : c) {
+                const float h = shared::dot(receiver.normal, corner - receiver.a);
+                corner = corner - receiver.normal * (h + below);
+            }
+        }
+        const shared::PatchGeometry light = shared::makePatchGeometry(c[0], c[1], c[2]);
+        if (!(receiver.area > 0) || !(light.area > 0)) continue;
+        if (!lightHiddenFrom(receiver, light)) {
+            ++seen;
+            continue;
+        }
+        ++hidden;
+        for (const shared::vec3& x : pointsOn(receiver, state)) {
+            ASSERT_EQ(shared::pointToTriangleFactor(x, receiver.normal, light), 0.0f)
+                << "trial " << trial;
+        }
+    }
+    // Both answers occur, so the test exercises the predicate.
+    EXPECT_GT(hidden, 500);
+    EXPECT_GT(seen, 500);
+}
+
+TEST(EmitterLights, LightsFacingAPatchOrGrazingItAreNotHidden) {
+    // A unit receiver in z = 0 facing +z.
+    shared::PatchGeometry receiver = shared::makePatchGeometry({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+    ASSERT_GT(receiver.normal.z, 0.99f);
+    // Above it, facing down: seen. Facing up: the receiver is behind it, hidden.
+    const auto light = [](float z, bool down) {
+        return down ? shared::makePatchGeometry({0, 0, z}, {0, 1, z}, {1, 0, z})
+                    : shared::makePatchGeometry({0, 0, z}, {1, 0, z}, {0, 1, z});
+    };
+    EXPECT_FALSE(lightHiddenFrom(receiver, light(1.0f, true)));
+    EXPECT_TRUE(lightHiddenFrom(receiver, light(1.0f, false)));
+    // Below the receiver's plane, facing up at it from under: hidden (behind the receiver).
+    EXPECT_TRUE(lightHiddenFrom(receiver, light(-1.0f, false)));
+    // In the receiver's own plane (an emitting neighbour), or a rounding below it: not hidden,
+    // as the factor's tolerances may keep part of it.
+    const shared::PatchGeometry beside =
+        shared::makePatchGeometry({2, 0, 0}, {3, 0, -1e-7f}, {2, 1, 0});
+    EXPECT_FALSE(lightHiddenFrom(receiver, beside));
+    // A patch lies in its own plane: never hidden from itself.
+    EXPECT_FALSE(lightHiddenFrom(receiver, receiver));
 }
 
 }  // namespace
