@@ -61,7 +61,7 @@ int main(int argc, char** argv) {
                 settings.scenePath.c_str(), session->system().patchCount,
                 session->system().wavelengthCount, session->wavelengths().name().c_str(),
                 formFactors->fromCache ? "read from the cache" : "built", formFactors->seconds,
-                formatCount(session->formFactors().nonzeroCount()).c_str());
+                formatCount(session->transport().stats().entries).c_str());
     auto first = session->solve();
     if (!first) return std::fprintf(stderr, "%s\n", first.error().message.c_str()), 2;
     std::printf("first solve: %d iterations, %.3f s\n", first->iterations, first->seconds);

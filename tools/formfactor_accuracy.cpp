@@ -8,12 +8,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "backend/embree_ray_caster.h"
 #include "core/timer.h"
 #include "radiosity/form_factors.h"
+#include "radiosity/matrix_transport.h"
 #include "verify/closed_forms.h"
 #include "verify/scenes.h"
 
@@ -26,7 +28,7 @@ using verify::kHowellC14;
 constexpr double kHalfHidden = 0.5 * verify::kHowellC11Distance2;
 
 struct Run {
-    SparseMatrix matrix;
+    std::shared_ptr<const Transport> f;
     PatchMesh mesh;
     double seconds = 0;
 };
@@ -38,13 +40,13 @@ Run run(const TriangleMesh& triangles, const FormFactorSettings& settings) {
     const Timer timer;
     auto result = computeFormFactors(r.mesh, settings, **caster);
     r.seconds = timer.seconds();
-    r.matrix = std::move(result->matrix);
+    r.f = std::make_shared<MatrixTransport>(std::move(result->matrix));
     return r;
 }
 
 // Area-weighted factor from the first `count` patches to the next `count`.
 double groupFactor(const Run& r, uint32_t count) {
-    return verify::groupFactor(r.mesh, r.matrix, 0, count, count, 2 * count);
+    return verify::groupFactor(r.mesh, *r.f, 0, count, count, 2 * count);
 }
 
 double squares(const FormFactorSettings& settings, int n, bool perpendicular) {
@@ -58,7 +60,7 @@ double squares(const FormFactorSettings& settings, int n, bool perpendicular) {
 std::pair<double, double> cube(const FormFactorSettings& settings, int n) {
     const Run r = run(verify::unitCubeRoom(n), settings);
     double worst = 0;
-    for (double sum : rowSums(r.matrix))
+    for (double sum : r.f->rowSums())
         worst = std::max(worst, std::fabs(sum - 1));
     return {worst, r.seconds};
 }

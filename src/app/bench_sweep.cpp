@@ -157,7 +157,7 @@ public:
             auto formFactors = session->buildFormFactors();
             if (!formFactors) return formFactors.error();
             row.formFactorSeconds = formFactors->seconds;
-            row.nonzeros = session->formFactors().nonzeroCount();
+            row.nonzeros = session->transport().stats().entries;
             auto solved = session->solve();
             if (!solved) return solved.error();
             row.solveSeconds = session->timings().solveSeconds;

@@ -12,7 +12,6 @@
 #include "core/log.h"
 #include "core/progress.h"
 #include "core/strings.h"
-#include "radiosity/matrix_market.h"
 #include "radiosity/patch_csv.h"
 
 namespace daisy::app {
@@ -80,7 +79,7 @@ int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
         logError(run.error().message);
         return 2;
     }
-    const SparseMatrix& matrix = session->formFactors();
+    const Transport& transport = session->transport();
     const FormFactorStats& stats = run->stats;
 
     const std::vector<std::string> comments = {
@@ -95,7 +94,7 @@ int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
                options.method == "stochastic" ? concat("; stochastic rays ", options.stochasticRays)
                                               : std::string(),
                "; subdivide ", options.subdivideMaxEdge.value_or(0), "; seed ", options.seed)};
-    if (auto written = writeMatrixMarket(exports.matrixPath, matrix, comments); !written) {
+    if (auto written = transport.writeMatrixMarket(exports.matrixPath, comments); !written) {
         logError(written.error().message);
         return 1;
     }
@@ -110,13 +109,14 @@ int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
         }
     }
     // The session has said where F came from; this line adds what was written and skipped.
-    logInfo(concat(
-        "formfactors: wrote ", exports.matrixPath, " (", formatCount(matrix.nonzeroCount()),
-        " non-zeros, ", formatBytes(static_cast<double>(matrix.bytes())), ", ", options.method,
-        "); pairs skipped without rays", run->fromCache ? " in the cached build" : "", ": ",
-        formatCount(stats.facingAway), " facing away, ",
-        formatCount(stats.clearClusterShafts + stats.clearPairShafts), " clear shafts, ",
-        formatCount(stats.coveredPairs), " covered; ", formatCount(stats.raysCast), " rays cast"));
+    logInfo(concat("formfactors: wrote ", exports.matrixPath, " (",
+                   formatCount(transport.stats().entries), " non-zeros, ",
+                   formatBytes(static_cast<double>(transport.stats().bytes)), ", ", options.method,
+                   "); pairs skipped without rays", run->fromCache ? " in the cached build" : "",
+                   ": ", formatCount(stats.facingAway), " facing away, ",
+                   formatCount(stats.clearClusterShafts + stats.clearPairShafts), " clear shafts, ",
+                   formatCount(stats.coveredPairs), " covered; ", formatCount(stats.raysCast),
+                   " rays cast"));
     printVerboseStats(stats);
     return 0;
 }

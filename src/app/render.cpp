@@ -232,7 +232,7 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     if (!session) return 2;
     const bool spectral = render.spectralExr;
     const int m = static_cast<int>(session->system().wavelengthCount);
-    const int channels = Session::channelCount(std::size_t(m), spectral);
+    const int channels = ChannelLayout{std::size_t(m), spectral}.count();
     RenderSettings settings;
     settings.width = width;
     settings.height = height;

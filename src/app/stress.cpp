@@ -18,10 +18,9 @@
 #include "pipeline/session.h"
 #include "radiosity/energy.h"
 #include "radiosity/form_factors.h"
-#include "radiosity/matrix_compare.h"
+#include "radiosity/matrix_transport.h"
 #include "radiosity/radiosity_system.h"
 #include "radiosity/solver.h"
-#include "radiosity/sparse_matrix.h"
 #include "spectral/fluorescence.h"
 #include "spectral/wavelength_set.h"
 #include "spectral/wavelength_spec.h"
@@ -50,7 +49,7 @@ struct Context {
 
 struct Built {
     PatchMesh mesh;
-    SparseMatrix f;
+    std::shared_ptr<const Transport> f;  // the transport built: F
     std::string error;  // non-empty when the pipeline refused the input
 };
 
@@ -85,7 +84,7 @@ Built buildAll(const Context& context, const TriangleMesh& triangles, double max
     if (!session) return built.error = session.error().message, built;
     if (auto f = session->buildFormFactors(); !f) return built.error = f.error().message, built;
     built.mesh = session->patches();
-    built.f = session->formFactors();
+    built.f = session->sharedTransport();
     return built;
 }
 
@@ -147,9 +146,9 @@ StressRow closedBoxRowSums(const Context& context, std::string name, Vec3d size,
     addRoom(mesh, {0, 0, 0}, size, n);
     const Built b = buildAll(context, mesh);
     if (!b.error.empty() && failed(row, b.error)) return row;
-    const std::vector<double> sums = rowSums(b.f);
+    const std::span<const double> sums = b.f->rowSums();
     row.patches = b.mesh.patchCount();
-    row.finite = validateStructure(b.f).empty() && allFinite(sums);
+    row.finite = b.f->checkStructure().empty() && allFinite(sums);
     for (double s : sums)
         row.error = std::max(row.error, std::abs(s - 1));
     // DAISY_FF_REL_TOL (3e-4) per pair, errors of either sign: 1e-3 on a row.
@@ -170,7 +169,7 @@ StressRow furnace(const Context& context, double rho, int n) {
     const Built b = buildAll(context, mesh);
     if (!b.error.empty() && failed(row, b.error)) return row;
     row.patches = b.mesh.patchCount();
-    const std::vector<double> sums = rowSums(b.f);
+    const std::span<const double> sums = b.f->rowSums();
     const auto [smin, smax] = std::minmax_element(sums.begin(), sums.end());
     RadiositySystem system = systemFor(b.mesh.areas, {550}, {1}, {greyOperator(rho)});
     std::fill(system.emission.begin(), system.emission.end(), 1.0);
@@ -178,7 +177,7 @@ StressRow furnace(const Context& context, double rho, int n) {
     settings.tolerance = 1e-9;
     settings.maxIterations = 100000;
     settings.threads = context.settings.threads;
-    auto solved = solveRadiosity(b.f, system, settings);
+    auto solved = b.f->solve(system, settings);
     if (!solved) {
         row.status = concat("diagnosed: ", solved.error().message);
         row.pass = rho * *smax >= 1;  // refusing is right only when F amplifies
@@ -202,12 +201,8 @@ StressRow furnaceExact(const Context& context, double rho) {
     StressRow row =
         rowFor(context, concat("furnace exact F rho=", formatNumber(rho)), "B = E/(1-rho) exactly");
     const uint32_t n = 65;
-    SparseMatrix f = SparseMatrix::zeros(n);
-    for (uint32_t i = 0; i < n; ++i) {
-        for (uint32_t j = 0; j < n; ++j)
-            if (j != i) f.columns.push_back(j), f.values.push_back(1.0f / 64);
-        f.rowOffsets[i + 1] = f.columns.size();
-    }
+    const auto f =
+        denseTransport(n, [](uint32_t i, uint32_t j) { return i == j ? 0.0f : 1.0f / 64; });
     RadiositySystem system =
         systemFor(std::vector<double>(n, 1.0), {550}, {1}, {greyOperator(rho)});
     std::fill(system.emission.begin(), system.emission.end(), 1.0);
@@ -216,7 +211,7 @@ StressRow furnaceExact(const Context& context, double rho) {
     settings.maxIterations = 100000;
     settings.threads = context.settings.threads;
     row.patches = n;
-    auto solved = solveRadiosity(f, system, settings);
+    auto solved = f->solve(system, settings);
     if (!solved) return row.status = concat("diagnosed: ", solved.error().message), row;
     row.finite = allFinite(solved->radiosity);
     for (double bi : solved->radiosity)
@@ -242,8 +237,10 @@ StressRow scaleInvariance(const Context& context, double scale, const Built& uni
     const Built b = buildAll(context, scaledRoom(scale));
     if (!b.error.empty() && failed(row, b.error)) return row;
     row.patches = b.mesh.patchCount();
-    row.finite = validateStructure(b.f).empty();
-    const EntryDifference worst = compareMatrices(b.f, unit.f, {}).maxAbsolute;
+    row.finite = b.f->checkStructure().empty();
+    const auto compared = b.f->compare(*unit.f, {});
+    if (!compared && failed(row, compared.error().message)) return row;
+    const EntryDifference worst = compared->maxAbsolute;
     row.error = worst.absolute;
     // Float rounding of the scaled coordinates moves each kernel by ~1e-6 relative.
     row.tolerance = 1e-5;
@@ -265,8 +262,8 @@ StressRow sliverStrips(const Context& context) {
     const Built b = buildAll(context, mesh);
     if (!b.error.empty() && failed(row, b.error)) return row;
     row.patches = b.mesh.patchCount();
-    row.finite = validateStructure(b.f).empty();
-    const double exact = parallelRectangles(1, w, w), f = groupFactor(b.mesh, b.f, 0, 2, 2, 4);
+    row.finite = b.f->checkStructure().empty();
+    const double exact = parallelRectangles(1, w, w), f = groupFactor(b.mesh, *b.f, 0, 2, 2, 4);
     row.error = std::abs(f - exact) / exact;
     row.tolerance = 1e-3;
     row.status = concat("F = ", formatNumber(f, 6), ", exact ", formatNumber(exact, 6));
@@ -283,10 +280,10 @@ StressRow nearlyCoincident(const Context& context, double gap, int n) {
     const Built b = buildAll(context, mesh);
     if (!b.error.empty() && failed(row, b.error)) return row;
     row.patches = b.mesh.patchCount();
-    row.finite = validateStructure(b.f).empty();
+    row.finite = b.f->checkStructure().empty();
     const uint32_t half = uint32_t(b.mesh.patchCount() / 2);
     const double exact = parallelRectangles(1, 1, gap),
-                 f = groupFactor(b.mesh, b.f, 0, half, half, 2 * half);
+                 f = groupFactor(b.mesh, *b.f, 0, half, half, 2 * half);
     row.error = std::abs(f - exact) / exact;
     row.tolerance = 1e-3;
     row.status = concat("F = ", formatNumber(f, 7), ", exact ", formatNumber(exact, 7));
@@ -308,9 +305,9 @@ StressRow sharedEdge(const Context& context, double degrees, int n) {
     const Built b = buildAll(context, mesh);
     if (!b.error.empty() && failed(row, b.error)) return row;
     row.patches = b.mesh.patchCount();
-    row.finite = validateStructure(b.f).empty();
+    row.finite = b.f->checkStructure().empty();
     const uint32_t half = uint32_t(b.mesh.patchCount() / 2);
-    const double exact = hingedSquares(phi), f = groupFactor(b.mesh, b.f, 0, half, half, 2 * half);
+    const double exact = hingedSquares(phi), f = groupFactor(b.mesh, *b.f, 0, half, half, 2 * half);
     row.error = std::abs(f - exact) / exact;
     // 1e-3 relative, or 1e-6 absolute: float contour sums of O(1) terms leave ~1e-7.
     row.tolerance = 1e-3 + 1e-6 / exact;
@@ -332,11 +329,15 @@ StressRow coplanar(const Context& context, int n) {
     const Built b = buildAll(context, mesh);
     if (!b.error.empty() && failed(row, b.error)) return row;
     row.patches = b.mesh.patchCount();
-    row.finite = validateStructure(b.f).empty();
-    for (float value : b.f.values)
-        row.error = std::max(row.error, double(std::abs(value)));
+    row.finite = b.f->checkStructure().empty();
+    std::vector<TransportEntry> entries;
+    for (uint32_t i = 0; i < b.f->patchCount(); ++i) {
+        b.f->row(i, entries);
+        for (const TransportEntry& entry : entries)
+            row.error = std::max(row.error, double(std::abs(entry.factor)));
+    }
     row.tolerance = 0;
-    row.status = concat(b.f.nonzeroCount(), " non-zeros");
+    row.status = concat(b.f->stats().entries, " non-zeros");
     row.pass = row.finite && row.error <= row.tolerance;
     return row;
 }
@@ -386,11 +387,11 @@ StressRow fluorescentChain(const Context& context, int n) {
     SolverSettings settings;
     settings.tolerance = 1e-8;
     settings.threads = context.settings.threads;
-    auto solved = solveRadiosity(b.f, system, settings);
+    auto solved = b.f->solve(system, settings);
     if (!solved) return row.status = concat("diagnosed: ", solved.error().message), row;
-    row.finite = allFinite(solved->radiosity) && validateStructure(b.f).empty();
+    row.finite = allFinite(solved->radiosity) && b.f->checkStructure().empty();
     const EnergyBalance e =
-        computeEnergyBalance(system, rowSums(b.f), solved->radiosity, solved->gathered);
+        computeEnergyBalance(system, b.f->rowSums(), solved->radiosity, solved->gathered);
     row.error = std::abs(e.imbalance());
     // Closes to the residual (1e-8) plus F's float reciprocity (~1e-7 per entry).
     row.tolerance = 1e-5;
@@ -414,16 +415,18 @@ StressRow longRow(const Context& context, int k) {
     const Built b = buildAll(context, mesh);
     if (!b.error.empty() && failed(row, b.error)) return row;
     row.patches = b.mesh.patchCount();
-    row.finite = validateStructure(b.f).empty();
-    const std::vector<double> sums = rowSums(b.f);
+    row.finite = b.f->checkStructure().empty();
+    const std::span<const double> sums = b.f->rowSums();
     const double f = (b.mesh.areas[0] * sums[0] + b.mesh.areas[1] * sums[1]) /
         (b.mesh.areas[0] + b.mesh.areas[1]);
     const double exact = smallSquareToPlane(side, h);
     row.error = std::abs(f - exact) / exact;
     row.tolerance = 1e-3;
     float naive = 0;
-    for (float value : b.f.rowValues(0))
-        naive += value;
+    std::vector<TransportEntry> first;
+    b.f->row(0, first);
+    for (const TransportEntry& entry : first)
+        naive += entry.factor;
     row.status = concat("F = ", formatNumber(f, 7), ", exact ", formatNumber(exact, 7),
                         "; float-summed row 0 off by ",
                         formatNumber(std::abs(naive - sums[0]) / sums[0], 2), " (library: double)");

@@ -11,7 +11,7 @@
 #include "core/log.h"
 #include "core/progress.h"
 #include "core/strings.h"
-#include "radiosity/matrix_compare.h"
+#include "radiosity/transport.h"
 
 namespace daisy::app {
 namespace {
@@ -37,29 +37,33 @@ int runValidate(const CommonOptions& options, const ValidateOptions& validate) {
         logError(tested.error().message);
         return 2;
     }
-    const SparseMatrix a = session->formFactors();
+    const std::shared_ptr<const Transport> a = session->sharedTransport();
     auto against = session->buildFormFactorsUncached(validate.against);
     if (!against) {
         logError(against.error().message);
         return 2;
     }
-    const SparseMatrix& b = session->formFactors();
-    DAISY_CHECK_OP(a.size, ==, b.size);
-    const MatrixComparison c = compareMatrices(
-        a, b, {validate.relativeTolerance, validate.absoluteTolerance, validate.worstShown});
+    const Transport& b = session->transport();
+    auto compared = a->compare(
+        b, {validate.relativeTolerance, validate.absoluteTolerance, validate.worstShown});
+    if (!compared) {
+        logError(concat(options.scenePath, ": ", compared.error().message));
+        return 2;
+    }
+    const MatrixComparison& c = *compared;
     const std::string& nameA = tested->backendName;
     const std::string& nameB = against->backendName;
 
     std::printf(
         "validate: %s against %s on %s: %s patches, method %s, quadrature %d, rays %d, "
         "seed %llu\n",
-        nameA.c_str(), nameB.c_str(), options.scenePath.c_str(), formatCount(a.size).c_str(),
-        options.method.c_str(), options.quadratureLevel, options.raysPerPair,
-        static_cast<unsigned long long>(options.seed));
+        nameA.c_str(), nameB.c_str(), options.scenePath.c_str(),
+        formatCount(a->patchCount()).c_str(), options.method.c_str(), options.quadratureLevel,
+        options.raysPerPair, static_cast<unsigned long long>(options.seed));
     std::printf("  %s: %s non-zeros in %s; %s: %s non-zeros in %s\n", nameA.c_str(),
-                formatCount(a.nonzeroCount()).c_str(),
+                formatCount(a->stats().entries).c_str(),
                 formatDuration(tested->stats.totalSeconds).c_str(), nameB.c_str(),
-                formatCount(b.nonzeroCount()).c_str(),
+                formatCount(b.stats().entries).c_str(),
                 formatDuration(against->stats.totalSeconds).c_str());
     std::printf("  union %s entries: %s only in %s, %s only in %s\n",
                 formatCount(c.unionEntries).c_str(), formatCount(c.onlyInA).c_str(), nameA.c_str(),

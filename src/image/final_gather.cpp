@@ -387,61 +387,27 @@ std::vector<uint8_t> penumbraNeighbours(const std::vector<uint64_t>& marks, int 
 }  // namespace
 
 std::vector<double> radiosityWithoutDirectLight(const RadiositySystem& system,
-                                                const SparseMatrix& formFactors,
+                                                const Transport& transport,
                                                 std::span<const double> radiosity) {
     const std::size_t n = system.patchCount, m = system.wavelengthCount;
-    DAISY_CHECK(radiosity.size() == n * m && formFactors.size == n);
-    std::vector<bool> emitter(n);
-    for (uint32_t j = 0; j < n; ++j)
+    DAISY_CHECK(radiosity.size() == n * m && transport.patchCount() == n);
+    std::vector<uint8_t> emitter(n), receiver(n);
+    for (uint32_t j = 0; j < n; ++j) {
         emitter[j] = emits(system, j);
+        receiver[j] = !system.operators[system.patchOperator[j]].isZero;
+    }
+    std::vector<double> direct(n * m, 0.0);
+    transport.gatherFrom(emitter, receiver, system.emission, m, direct);
     std::vector<double> out(radiosity.begin(), radiosity.end());
-    std::vector<double> direct(m);
+    std::vector<double> reflected(m);
     for (uint32_t i = 0; i < n; ++i) {
-        const MaterialOperator& op = system.operators[system.patchOperator[i]];
-        if (op.isZero) continue;
-        std::fill(direct.begin(), direct.end(), 0.0);
-        bool any = false;
-        const auto columns = formFactors.rowColumns(i);
-        const auto values = formFactors.rowValues(i);
-        for (std::size_t e = 0; e < columns.size(); ++e) {
-            if (!emitter[columns[e]]) continue;
-            any = true;
-            const double* ej = system.emissionRow(columns[e]);
-            for (std::size_t k = 0; k < m; ++k)
-                direct[k] += double(values[e]) * ej[k];
-        }
-        if (!any) continue;
-        for (std::size_t o = 0; o < m; ++o) {
-            double reflected = 0;
-            for (std::size_t k = 0; k < m; ++k)
-                reflected += op.matrix(o, k) * direct[k];
-            out[i * m + o] -= reflected;
-        }
+        if (!receiver[i]) continue;
+        applyOperator(system.operators[system.patchOperator[i]], direct.data() + i * m,
+                      reflected.data());
+        for (std::size_t o = 0; o < m; ++o)
+            out[i * m + o] -= reflected[o];
     }
     return out;
-}
-
-std::vector<float> radiosityChannels(const WavelengthSet& set, std::span<const double> b,
-                                     bool spectral) {
-    const std::size_t m = set.size(), n = b.size() / m;
-    const std::size_t channels = (spectral ? m : 0) + 4;
-    std::vector<float> values(n * channels);
-    std::vector<double> radiance(m);
-    for (std::size_t i = 0; i < n; ++i) {
-        for (std::size_t k = 0; k < m; ++k)
-            radiance[k] = b[i * m + k] / kPi;
-        float* out = values.data() + i * channels;
-        if (spectral) {
-            for (std::size_t k = 0; k < m; ++k)
-                *out++ = static_cast<float>(radiance[k]);
-        }
-        const Xyz xyz = set.toXyz(radiance);
-        *out++ = static_cast<float>(xyz[0]);
-        *out++ = static_cast<float>(xyz[1]);
-        *out++ = static_cast<float>(xyz[2]);
-        *out = 1.0f;
-    }
-    return values;
 }
 
 Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,

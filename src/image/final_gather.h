@@ -48,7 +48,7 @@
 #include "image/near_field.h"
 #include "image/renderer.h"
 #include "radiosity/radiosity_system.h"
-#include "radiosity/sparse_matrix.h"
+#include "radiosity/transport.h"
 #include "scene/scene.h"
 #include "spectral/wavelength_set.h"
 
@@ -63,19 +63,14 @@ struct DirectLightSettings {
 };
 
 // B with the emitters' direct contribution removed: E_i + M_i (G_i - D_i) = B_i - M_i D_i
-// (n x m, row-major, the system's layout), from the solved radiosity and F.
+// (n x m, row-major, the system's layout), D_i the emitters' light gathered through `transport`.
 std::vector<double> radiosityWithoutDirectLight(const RadiositySystem& system,
-                                                const SparseMatrix& formFactors,
+                                                const Transport& transport,
                                                 std::span<const double> radiosity);
-
-// Per-patch display channels of radiosity `b` (n x m): [L_0 .. L_{m-1} when spectral] X Y Z 1
-// with L = b / pi, the layout of Session::patchChannels.
-std::vector<float> radiosityChannels(const WavelengthSet& set, std::span<const double> b,
-                                     bool spectral);
 
 // The direct term M_i H(x) / pi per pixel, on the renderer's sample positions (stratum centres,
 // image/pixel_samples.h, per pixel settings.pixelSides when given: edge_sampling.h) and box
-// filter, in the channels of radiosityChannels (coverage 0).
+// filter, in the channels of pipeline/channel_layout.h (coverage 0).
 // Lights are the emitting triangles of scene.mesh, faces merged (emitter_lights.h). Fails (no
 // crash) on what renderCornerValues refuses. `shader` (renderCornerValues's) moves hits to back
 // patches and puts the texture detail on each sample's direct light. With `nearField`, each

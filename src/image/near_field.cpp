@@ -204,11 +204,11 @@ double NearField::windowWeight(double distance) const {
 }
 
 NearField NearField::build(const PatchMesh& patches, const RadiositySystem& system,
-                           const SparseMatrix& formFactors, std::span<const double> radiosity,
+                           const Transport& transport, std::span<const double> radiosity,
                            const PatchExposure& exposure, const NearFieldSettings& settings) {
     const std::size_t n = patches.patchCount(), m = system.wavelengthCount;
-    DAISY_CHECK(system.patchCount == n && formFactors.size == n && radiosity.size() == n * m &&
-                exposure.fraction.size() == n);
+    DAISY_CHECK(system.patchCount == n && transport.patchCount() == n &&
+                radiosity.size() == n * m && exposure.fraction.size() == n);
     NearField field;
     field.wavelengthCount_ = m;
     field.radius_ = std::max(0.0, settings.radius * medianPatchSize(patches));
@@ -251,6 +251,7 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
     std::vector<std::size_t> pairs(n, 0);
     std::vector<std::vector<ExactNeighbour>> exact(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 16), [&](const auto& range) {
+        std::vector<TransportEntry> entries;  // row i of the transport
         std::vector<std::pair<float, uint32_t>> candidates;
         std::array<shared::vec3, kPoints> x{};  // the nodes, then the children's centroids
         FarFieldScratch batch;  // the candidates' factors at x, in SIMD lanes
@@ -261,18 +262,17 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const double phi = field.exposed_[i];
             if (system.operators[system.patchOperator[i]].isZero || phi <= 0) continue;
-            const auto columns = formFactors.rowColumns(uint32_t(i));
-            const auto fij = formFactors.rowValues(uint32_t(i));
+            transport.row(uint32_t(i), entries);
             if (!(reach > 0) || settings.maxNeighbours <= 0) continue;
             const shared::PatchGeometry& gi = geometry[i];
             const shared::vec3 ci = centroids[i];
             const float extent = extents[i];
             candidates.clear();
             const float limit2 = (reach + extent) * (reach + extent);
-            for (std::size_t e = 0; e < columns.size(); ++e) {
-                const shared::vec3 d = centroids[columns[e]] - ci;
+            for (std::size_t e = 0; e < entries.size(); ++e) {
+                const shared::vec3 d = centroids[entries[e].patch] - ci;
                 const float d2 = dot(d, d);  // squared: sorts the same, no root per entry
-                if (fij[e] > 0 && d2 < limit2) candidates.push_back({d2, uint32_t(e)});
+                if (entries[e].factor > 0 && d2 < limit2) candidates.push_back({d2, uint32_t(e)});
             }
             if (candidates.empty()) continue;
             std::sort(candidates.begin(), candidates.end());
@@ -300,10 +300,10 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
             for (const auto& candidate : candidates) {
                 for (int k = 0; k < kNodes; ++k)
                     batch.points.push_back(
-                        {x[std::size_t(k)], &gi, &geometry[columns[candidate.second]]});
+                        {x[std::size_t(k)], &gi, &geometry[entries[candidate.second].patch]});
             }
             for (std::size_t c = 0; c < candidates.size(); ++c) {
-                const uint32_t j = columns[candidates[c].second];
+                const uint32_t j = entries[candidates[c].second].patch;
                 if (length(centroids[j] - ci) - extent - extents[j] > extent) continue;
                 probes[c] = uint32_t(batch.points.size());
                 for (std::size_t k = kNodes; k < kPoints; ++k)
@@ -316,7 +316,7 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
             weighted.resize(candidates.size() * kPoints);
             bool exactPatch = false;
             for (std::size_t c = 0; c < candidates.size(); ++c) {
-                const uint32_t j = columns[candidates[c].second];
+                const uint32_t j = entries[candidates[c].second].patch;
                 double* f = weighted.data() + c * kPoints;
                 for (std::size_t k = 0; k < kPoints; ++k) {
                     const bool node = k < std::size_t(kNodes);
@@ -330,7 +330,7 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
             }
             for (std::size_t c = 0; c < candidates.size(); ++c) {
                 const uint32_t e = candidates[c].second;
-                const uint32_t j = columns[e];
+                const uint32_t j = entries[e].patch;
                 const double* f = weighted.data() + c * kPoints;
                 // The unoccluded exposed mean and that of w F by the children's centroids (the
                 // equal-area rule), by the lattice for far candidates, or by the hybrid kernel
@@ -350,7 +350,7 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
                 }
                 if (exactPatch && probes[c] != kNoProbes &&
                     (!(unoccluded > 0) ||
-                     (fij[e] / phi < kOpen * unoccluded &&
+                     (entries[e].factor / phi < kOpen * unoccluded &&
                       latticeError(f, mask) > kRuleTolerance * unoccluded))) {
                     const double rule = unoccluded;
                     unoccluded = exposedUnoccludedFactor(gi, geometry[j], mask);
@@ -360,7 +360,7 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
                 }
                 if (!(unoccluded > 0)) continue;
                 // F_ij of the exposed part over its unoccluded mean: the pair's visibility.
-                double visibility = std::min(1.0, fij[e] / phi / unoccluded);
+                double visibility = std::min(1.0, entries[e].factor / phi / unoccluded);
                 if (visibility > kOpen) visibility = 1;
                 ++pairs[i];
                 if (exactPatch) {

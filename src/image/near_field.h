@@ -42,7 +42,7 @@
 #include "geometry/patch_mesh.h"
 #include "pipeline/patch_exposure.h"
 #include "radiosity/radiosity_system.h"
-#include "radiosity/sparse_matrix.h"
+#include "radiosity/transport.h"
 #include "shared/gpu_types.h"
 
 namespace daisy {
@@ -59,12 +59,12 @@ struct NearFieldSettings {
 class NearField {
 public:
     // Per receiving patch: Near and Omega at its 15 lattice nodes (or the list of neighbours
-    // it gathers exactly per sample) over the patches j with F_ij > 0 that can lie within R of
-    // it, their means N_i and Omega_i over its exposed children. `radiosity`: the solved B
-    // (n x m, the system's layout). Parallel over patches (the caller's TBB arena);
+    // it gathers exactly per sample) over the patches j with F_ij > 0 (the transport's row i) that
+    // can lie within R of it, their means N_i and Omega_i over its exposed children. `radiosity`:
+    // the solved B (n x m, the system's layout). Parallel over patches (the caller's TBB arena);
     // deterministic.
     static NearField build(const PatchMesh& patches, const RadiositySystem& system,
-                           const SparseMatrix& formFactors, std::span<const double> radiosity,
+                           const Transport& transport, std::span<const double> radiosity,
                            const PatchExposure& exposure, const NearFieldSettings& settings);
 
     // From the direct gather's smooth part b = B - M D (n x m), in place: S_i above (b_i for

@@ -9,6 +9,7 @@
 #include "image/edge_sampling.h"
 #include "image/pixel_samples.h"
 #include "image/texture_detail.h"
+#include "pipeline/channel_layout.h"
 #include "pipeline/patch_exposure.h"
 #include "pipeline/vertex_radiance.h"
 
@@ -33,14 +34,13 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
     RadiosityImageTimes local;
     RadiosityImageTimes& t = times ? *times : local;
     Timer stage;
-    const int channels = Session::channelCount(session.system().wavelengthCount, spectral);
+    const int channels = session.channelLayout(spectral).count();
     std::vector<float> corners;
     NearField near;
     if (mode != GatherMode::None) {
-        const std::vector<double>& b =
-            session.hasSolution() ? session.solution().radiosity : session.system().emission;
+        const std::vector<double>& b = session.displayRadiosity();
         std::vector<double> smooth =
-            radiosityWithoutDirectLight(session.system(), session.formFactors(), b);
+            radiosityWithoutDirectLight(session.system(), session.transport(), b);
         std::vector<double> weights;  // the patch areas (empty), or their exposed parts
         if (mode == GatherMode::Near) {
             Timer nearTimer;
@@ -50,8 +50,8 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
             auto exposure = session.exposure();
             if (!exposure) return exposure.error();
             arena.execute([&] {
-                near = NearField::build(session.patches(), session.system(), session.formFactors(),
-                                        b, **exposure, nearField);
+                near = NearField::build(session.patches(), session.system(), session.transport(), b,
+                                        **exposure, nearField);
             });
             near.toFarRadiosity(session.system(), smooth);
             weights = exposedAreas(session.patches(), **exposure);

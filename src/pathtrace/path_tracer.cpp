@@ -213,15 +213,8 @@ struct Tracer {
                 }
             } else {
                 std::fill(next.begin(), next.end(), 0.0);
-                for (std::size_t c = 0; c < rows; ++c) {
-                    const double* t = weight.data() + c * m;
-                    double* out = next.data() + c * m;
-                    for (std::size_t o = 0; o < m; ++o) {
-                        if (t[o] == 0) continue;
-                        for (std::size_t k = 0; k <= o; ++k)  // M is lower triangular
-                            out[k] += t[o] * op.matrix(o, k);
-                    }
-                }
+                for (std::size_t c = 0; c < rows; ++c)
+                    addTransposedOperator(op, weight.data() + c * m, next.data() + c * m);
             }
             const auto& c = mesh.patches[p];
             const double w1 = hit.u, w2 = hit.v, w0 = 1 - w1 - w2;

@@ -124,16 +124,8 @@ Expected<void> addDirectLight(RadiositySystem& system, const LightGeometry& geom
                 irradiance[k] += g * spectra[l][k];
         }
         if (!lit) continue;
-        const MaterialOperator& op = system.operators[system.patchOperator[i]];
         double* e = system.emission.data() + std::size_t(i) * m;
-        for (std::size_t o = 0; o < m; ++o) {
-            if (op.isDiagonal) {
-                e[o] += op.diagonal[o] * irradiance[o];
-                continue;
-            }
-            for (std::size_t k = 0; k < m; ++k)
-                e[o] += op.matrix(o, k) * irradiance[k];
-        }
+        applyOperator(system.operators[system.patchOperator[i]], irradiance.data(), e, e);
     }
     return {};
 }

@@ -18,6 +18,7 @@
 #include "pipeline/punctual_lights.h"
 #include "pipeline/vertex_radiance.h"
 #include "radiosity/exposed_system.h"
+#include "radiosity/matrix_transport.h"
 
 namespace daisy {
 
@@ -35,21 +36,18 @@ struct Session::State {
     std::size_t fluorescentOperators = 0;
     SessionTimings timings;
 
-    bool haveF = false;
-    SparseMatrix f;
-    std::vector<double> rowSums;
-    mutable std::optional<SparseMatrix> transposed;
+    std::shared_ptr<const Transport> transport;  // null until built or read
     uint64_t builds = 0;
     std::string resolvedBackend;  // settings.backend with `auto` resolved, on first need
 
     bool haveSolution = false;
     SolverResult solution;
+    std::vector<double> gathered;  // G of the last finished solve (n x m), or empty
     mutable std::optional<PatchExposure> exposure;  // probed on first use (patches are fixed)
     ExposedSystem exposed;  // of the last solve
 
     // The store of a freshly built F into the disk cache, running off the critical path (it
-    // reads f, which stays unchanged until finishCacheWrite). Declared last so that it is
-    // destroyed (a std::async future's destructor waits) before f.
+    // holds its own reference to the transport).
     std::future<std::string> cacheWrite;
 
     std::string scenePath() const { return settings.scenePath; }
@@ -260,7 +258,7 @@ Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel,
                                                      const ProgressObserver& onProgress) {
     State& s = *state_;
     FormFactorReport report;
-    if (s.haveF) {
+    if (s.transport) {
         report.backendName = "memory";
         return report;
     }
@@ -282,7 +280,7 @@ Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel,
             report.stats = lookup.stats;
             report.seconds = timer.seconds();
             s.timings.viewFactorSeconds = report.seconds;
-            s.stageLine(concat("view factors: ", formatCount(s.f.nonzeroCount()),
+            s.stageLine(concat("view factors: ", formatCount(s.transport->stats().entries),
                                " non-zeros from the cache ", report.cachePath, " in ",
                                formatDuration(report.seconds)));
             return report;
@@ -297,11 +295,14 @@ Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel,
     report.backendName = built->backendName;
     report.stats = built->stats;
     if (cache) {
-        // The solve only reads F, so it need not wait for the ~330 MB write (issue 18).
+        // The solve only reads F, so it need not wait for the ~330 MB write.
+        const auto* matrix = dynamic_cast<const MatrixTransport*>(s.transport.get());
+        DAISY_CHECK(matrix);
         s.cacheWrite = std::async(std::launch::async,
-                                  [cache = std::move(*cache), key, &f = s.f, stats = report.stats] {
+                                  [cache = std::move(*cache), key, transport = s.transport, matrix,
+                                   stats = report.stats] {
                                       const std::lock_guard lock(cacheStoreMutex());
-                                      return cache.store(key, f, stats);
+                                      return cache.store(key, matrix->matrix(), stats);
                                   });
     }
     report.seconds = timer.seconds();
@@ -349,23 +350,17 @@ Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& 
 }
 
 bool Session::hasFormFactors() const {
-    return state_->haveF;
+    return state_->transport != nullptr;
 }
 
-const SparseMatrix& Session::formFactors() const {
-    DAISY_CHECK(state_->haveF);
-    return state_->f;
+const Transport& Session::transport() const {
+    DAISY_CHECK(state_->transport);
+    return *state_->transport;
 }
 
-std::span<const double> Session::formFactorRowSums() const {
-    DAISY_CHECK(state_->haveF);
-    return state_->rowSums;
-}
-
-const SparseMatrix& Session::formFactorTranspose() const {
-    DAISY_CHECK(state_->haveF);
-    if (!state_->transposed) state_->transposed = transpose(state_->f);
-    return *state_->transposed;
+std::shared_ptr<const Transport> Session::sharedTransport() const {
+    DAISY_CHECK(state_->transport);
+    return state_->transport;
 }
 
 std::string Session::memoryAdvice() const {
@@ -393,12 +388,7 @@ std::string Session::finishCacheWrite() const {
 
 void Session::setFormFactors(SparseMatrix matrix) {
     DAISY_CHECK_OP(matrix.size, ==, state_->patches.patchCount());
-    State& s = *state_;
-    finishCacheWrite();  // the write reads the old F
-    s.f = std::move(matrix);
-    s.rowSums = rowSums(s.f);
-    s.transposed.reset();
-    s.haveF = true;
+    state_->transport = std::make_shared<MatrixTransport>(std::move(matrix));
 }
 
 // ---- edits ----
@@ -436,6 +426,7 @@ Expected<void> Session::setMaterial(std::size_t index, Material material) {
     if (set.size() != s.wavelengths.size()) {
         s.haveSolution = false;
         s.solution = {};
+        s.gathered.clear();
     }
     s.wavelengths = std::move(set);
     s.system = std::move(*system);
@@ -458,6 +449,7 @@ Expected<void> Session::setWavelengths(const WavelengthSpec& spec, const std::st
     s.fluorescentOperators = countFluorescent(s.system);
     s.haveSolution = false;
     s.solution = {};
+    s.gathered.clear();
     return {};
 }
 
@@ -465,7 +457,7 @@ Expected<void> Session::setWavelengths(const WavelengthSpec& spec, const std::st
 
 Expected<SolverResult> Session::solve(const SolveRequest& request) {
     State& s = *state_;
-    if (!s.haveF) {
+    if (!s.transport) {
         auto built = buildFormFactors(request.cancel, request.onProgress);
         if (!built) return built.error();
     }
@@ -474,15 +466,14 @@ Expected<SolverResult> Session::solve(const SolveRequest& request) {
     if (request.kind) settings.kind = *request.kind;
     settings.onIteration = request.onIteration;
     settings.cancel = request.cancel;
-    settings.rowSums = s.rowSums;
-    if (settings.kind == SolverKind::Southwell) settings.transposed = &formFactorTranspose();
     const std::size_t size = std::size_t(s.system.patchCount) * s.system.wavelengthCount;
     const bool warm = request.warmStart && s.haveSolution && s.solution.radiosity.size() == size;
 
     Timer timer;
     auto exposure = this->exposure();
     if (!exposure) return Error{concat(s.scenePath(), ": ", exposure.error().message)};
-    s.exposed = exposedSystem(s.system, (*exposure)->fraction, s.rowSums);
+    const Transport& transport = *s.transport;
+    s.exposed = exposedSystem(s.system, (*exposure)->fraction, transport.rowSums());
     const RadiositySystem& system = s.exposed.changed ? s.exposed.system : s.system;
     std::vector<double> start;
     if (warm) {
@@ -499,7 +490,7 @@ Expected<SolverResult> Session::solve(const SolveRequest& request) {
         };
     }
     if (s.exposed.changed) settings.rowSums = s.exposed.rowSums;
-    auto solved = solveRadiosity(s.f, system, settings);
+    auto solved = transport.solve(system, settings);
     if (!solved) return Error{concat(s.scenePath(), ": ", solved.error().message)};
     if (s.exposed.changed) exposedToWholePatch(s.system, s.exposed.phi, solved->radiosity);
     s.timings.solveSeconds = timer.seconds();
@@ -515,6 +506,8 @@ Expected<SolverResult> Session::solve(const SolveRequest& request) {
                        solved->cancelled ? ", cancelled" : "", ")"));
     s.solution = *solved;
     s.haveSolution = true;
+    // A cancelled solve's G belongs to no finished iterate: the last finished one's stays.
+    if (!solved->cancelled && solved->gathered.size() == size) s.gathered = solved->gathered;
     return solved;
 }
 
@@ -534,7 +527,8 @@ EnergyBalance Session::energyBalance() const {
     const State& s = *state_;
     DAISY_CHECK(s.haveSolution);
     if (!s.exposed.changed || s.solution.gathered.empty())
-        return computeEnergyBalance(s.system, s.rowSums, s.solution.radiosity, s.solution.gathered);
+        return computeEnergyBalance(s.system, s.transport->rowSums(), s.solution.radiosity,
+                                    s.solution.gathered);
     // Over the exposed parts: areas A'_i = A_i / s_i (the exposed system's), rows s_i rowsum_i,
     // B' and the irradiance s_i G_i, with the materials' own operators (M_i, not s_i M_i).
     RadiositySystem parts = s.system;
@@ -567,6 +561,34 @@ void Session::resetToEmission() {
     s.haveSolution = true;
 }
 
+bool Session::previewBounce(std::span<const uint8_t> selected) {
+    State& s = *state_;
+    const std::size_t n = s.system.patchCount, m = s.system.wavelengthCount;
+    DAISY_CHECK_OP(selected.size(), ==, n);
+    if (!s.transport || s.gathered.size() != n * m || !s.exposure) return false;
+    std::vector<double> radiosity = displayRadiosity();
+    if (radiosity.size() != n * m) return false;
+    // The exposed parts' operators s_i M_i of the current materials, as the next solve has them.
+    const ExposedSystem exposed =
+        exposedSystem(s.system, s.exposure->fraction, s.transport->rowSums());
+    const RadiositySystem& system = exposed.changed ? exposed.system : s.system;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!selected[i]) continue;
+        const double* e = s.system.emissionRow(uint32_t(i));
+        double* b = radiosity.data() + i * m;
+        // B'_i = E_i + s_i M_i G_i, then the whole-patch mean B_i = E_i + phi_i (B'_i - E_i).
+        applyOperator(system.operators[system.patchOperator[i]], s.gathered.data() + i * m, b, e);
+        if (exposed.changed && exposed.phi[i] != 1) {
+            for (std::size_t k = 0; k < m; ++k)
+                b[k] = e[k] + exposed.phi[i] * (b[k] - e[k]);
+        }
+    }
+    s.solution = {};
+    s.solution.radiosity = std::move(radiosity);
+    s.haveSolution = true;
+    return true;
+}
+
 void Session::setSolution(std::vector<double> radiosity) {
     State& s = *state_;
     DAISY_CHECK_OP(radiosity.size(), ==, s.system.emission.size());
@@ -578,53 +600,46 @@ void Session::setSolution(std::vector<double> radiosity) {
 
 // ---- display colours ----
 
-int Session::channelCount(std::size_t wavelengthCount, bool spectral) {
-    return int(spectral ? wavelengthCount : 0) + 4;
+const std::vector<double>& Session::displayRadiosity() const {
+    const State& s = *state_;
+    return s.haveSolution ? s.solution.radiosity : s.system.emission;
+}
+
+const std::vector<double>& Session::lastGathered() const {
+    return state_->gathered;
+}
+
+ChannelLayout Session::channelLayout(bool spectral) const {
+    return {state_->system.wavelengthCount, spectral};
 }
 
 std::vector<float> Session::patchChannels(bool spectral) const {
-    const State& s = *state_;
-    const std::size_t n = s.system.patchCount, m = s.system.wavelengthCount;
-    const std::vector<double>& b = s.haveSolution ? s.solution.radiosity : s.system.emission;
-    const int channels = channelCount(m, spectral);
-    std::vector<float> values(n * std::size_t(channels));
-    std::vector<double> radiance(m);
-    for (std::size_t i = 0; i < n; ++i) {
-        for (std::size_t k = 0; k < m; ++k)
-            radiance[k] = b[i * m + k] / std::numbers::pi;
-        float* out = values.data() + i * std::size_t(channels);
-        if (spectral) {
-            for (std::size_t k = 0; k < m; ++k)
-                *out++ = static_cast<float>(radiance[k]);
-        }
-        const Xyz xyz = s.wavelengths.toXyz(radiance);
-        *out++ = static_cast<float>(xyz[0]);
-        *out++ = static_cast<float>(xyz[1]);
-        *out++ = static_cast<float>(xyz[2]);
-        *out = 1.0f;
-    }
-    return values;
+    return radiosityChannels(state_->wavelengths, displayRadiosity(), spectral);
 }
 
 std::vector<Xyz> Session::patchRadianceXyz() const {
+    const ChannelLayout layout = channelLayout(false);
     const std::vector<float> channels = patchChannels(false);
     std::vector<Xyz> xyz(state_->system.patchCount);
-    for (std::size_t i = 0; i < xyz.size(); ++i)
-        xyz[i] = {channels[i * 4], channels[i * 4 + 1], channels[i * 4 + 2]};
+    for (std::size_t i = 0; i < xyz.size(); ++i) {
+        const float* c = channels.data() + i * std::size_t(layout.count());
+        xyz[i] = {c[layout.x()], c[layout.y()], c[layout.z()]};
+    }
     return xyz;
 }
 
 std::vector<float> Session::cornerChannels(bool spectral) const {
-    const int channels = channelCount(state_->system.wavelengthCount, spectral);
-    return cornerValues(state_->patches, patchChannels(spectral), channels);
+    return cornerValues(state_->patches, patchChannels(spectral), channelLayout(spectral).count());
 }
 
 std::vector<float> Session::cornerLinearSrgb(double scale) const {
+    const ChannelLayout layout = channelLayout(false);
+    const std::size_t channels = std::size_t(layout.count());
     const std::vector<float> corners = cornerChannels(false);
-    std::vector<float> rgb(corners.size() / 4 * 3);
-    for (std::size_t c = 0; c < corners.size() / 4; ++c) {
-        const Rgb value =
-            xyzToLinearSrgb(Xyz{corners[c * 4], corners[c * 4 + 1], corners[c * 4 + 2]});
+    std::vector<float> rgb(corners.size() / channels * 3);
+    for (std::size_t c = 0; c < corners.size() / channels; ++c) {
+        const float* v = corners.data() + c * channels;
+        const Rgb value = xyzToLinearSrgb(Xyz{v[layout.x()], v[layout.y()], v[layout.z()]});
         for (int k = 0; k < 3; ++k)
             rgb[c * 3 + k] = static_cast<float>(value[k] * scale);
     }

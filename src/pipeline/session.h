@@ -3,11 +3,12 @@
 // every front end (the command line, the viewer, `daisy bench` and the stress suite):
 //     scene -> wavelength set -> patches -> E and M -> F (a backend, or the disk cache) -> B
 //     -> display colours.
-// F is built once and kept, with what every solve derives from it (row sums, transpose); a
-// material or wavelength edit rebuilds only E and M, and the next solve starts warm from the last
-// B. F is reached only through this interface, so its representation can change (hierarchical
-// radiosity) without touching the front ends. Errors are bad input or settings (exit status 2 in
-// the app) and name the scene or the option; the session logs its stage lines (core/log.h).
+// The transport (radiosity/transport.h: F, built by a backend or read from the disk cache) is
+// built once and kept; a material or wavelength edit rebuilds only E and M, and the next solve
+// starts warm from the last B. Front ends reach the transport only through this interface and
+// radiosity/transport.h, never its representation, so that can change without touching them. Errors
+// are bad input or settings (exit status 2 in the app) and name the scene or the option; the
+// session logs its stage lines (core/log.h).
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -21,6 +22,7 @@
 #include "core/cancel.h"
 #include "core/expected.h"
 #include "geometry/patch_mesh.h"
+#include "pipeline/channel_layout.h"
 #include "pipeline/formfactor_cache.h"
 #include "pipeline/patch_exposure.h"
 #include "radiosity/energy.h"
@@ -28,6 +30,7 @@
 #include "radiosity/matrix_estimate.h"
 #include "radiosity/radiosity_system.h"
 #include "radiosity/solver.h"
+#include "radiosity/transport.h"
 #include "scene/load_scene.h"
 #include "scene/scene.h"
 #include "spectral/color.h"
@@ -143,9 +146,10 @@ public:
     // Called by formFactorsCached, setFormFactors and the destructor.
     std::string finishCacheWrite() const;
     bool hasFormFactors() const;
-    const SparseMatrix& formFactors() const;  // precondition: hasFormFactors()
-    std::span<const double> formFactorRowSums() const;  // precondition: hasFormFactors()
-    const SparseMatrix& formFactorTranspose() const;  // computed on first use
+    // The transport built by buildFormFactors (precondition: hasFormFactors()); the shared
+    // handle keeps it alive past a rebuild (validate compares two builds).
+    const Transport& transport() const;
+    std::shared_ptr<const Transport> sharedTransport() const;
     uint64_t formFactorBuildCount() const;  // times a backend built F for this session
     // What to change when F (or the patches) would exceed --max-memory: a larger --subdivide
     // when the patches are subdivided, else that the input triangles cannot be merged.
@@ -183,12 +187,23 @@ public:
     // Uses `radiosity` (n x m) as the solution (the bench's analytic furnace answer).
     void setSolution(std::vector<double> radiosity);
 
+    // ---- the first bounce of an edit ----
+    // Replaces the solution's radiosity of the patches with selected[i] != 0 by one bounce of
+    // the light that reached them in the last finished solve, B = E + M G with the current
+    // materials, on the same exposed parts as the solve (radiosity/exposed_system.h): the
+    // viewer's preview of an edit, exact for a converged solve whose materials did not change.
+    // False (nothing changed) when no finished solve of this wavelength set left its G.
+    bool previewBounce(std::span<const uint8_t> selected);
+
     // ---- display colours (of the solution; B = E when there is none) ----
-    // Per patch: [L_0 .. L_{m-1} when spectral] X Y Z 1, where L = B / pi is the radiance of a
-    // Lambertian patch (W m^-2 sr^-1 nm^-1) and XYZ its CIE 1931 tristimulus values; the last
-    // channel is a coverage of 1 for the renderer. patchCount x channels, row-major.
+    // The radiosity shown: the solution's B, or E before any solve (n x m).
+    const std::vector<double>& displayRadiosity() const;
+    // G of the last finished solve (n x m; empty when none), the irradiance of the exposed
+    // parts the solve used.
+    const std::vector<double>& lastGathered() const;
+    ChannelLayout channelLayout(bool spectral) const;
+    // Per patch, the channels of channelLayout(spectral) (channel_layout.h), row-major.
     std::vector<float> patchChannels(bool spectral) const;
-    static int channelCount(std::size_t wavelengthCount, bool spectral);
     // Radiance XYZ per patch.
     std::vector<Xyz> patchRadianceXyz() const;
     // The same smoothed per patch corner (pipeline/vertex_radiance.h): patchCount x 3 corners x

@@ -15,20 +15,6 @@ bool RadiositySystem::hasFluorescence() const {
                        [](const MaterialOperator& op) { return !op.isDiagonal; });
 }
 
-void applyOperator(const MaterialOperator& op, const double* in, double* out) {
-    const std::size_t m = op.matrix.size;
-    for (std::size_t o = 0; o < m; ++o) {
-        double v = 0;
-        if (op.isDiagonal) {
-            v = op.diagonal[o] * in[o];
-        } else {
-            for (std::size_t k = 0; k <= o; ++k)
-                v += op.matrix(o, k) * in[k];
-        }
-        out[o] = v;
-    }
-}
-
 void finishOperator(MaterialOperator& op, const std::vector<double>& binWidthsNm) {
     const std::size_t m = op.matrix.size;
     op.diagonal.assign(m, 0);

@@ -59,9 +59,41 @@ Expected<RadiositySystem> buildRadiositySystem(const Scene& scene, const PatchMe
 // matrix and the set's bin widths; for systems assembled by hand (tests, benchmarks).
 void finishOperator(MaterialOperator& op, const std::vector<double>& binWidthsNm);
 
-// out = M in for one operator (m-vectors): diagonal[o] in[o], or the lower-triangular sum
-// over k <= o of M[o][k] in[k] (re-radiation only moves light to longer wavelengths).
-void applyOperator(const MaterialOperator& op, const double* in, double* out);
+// out = add + M in for one operator (m-vectors; add = null: out = M in): diagonal[o] in[o], or
+// the lower-triangular sum over k <= o of M[o][k] in[k] (re-radiation only moves light to
+// longer wavelengths), summed in that order and then added to add[o]. Every product of a
+// re-radiation matrix with a vector goes through here (the solvers' B = E + M G too).
+inline void applyOperator(const MaterialOperator& op, const double* in, double* out,
+                          const double* add = nullptr) {
+    const std::size_t m = op.matrix.size;
+    if (op.isZero) {
+        for (std::size_t o = 0; o < m; ++o)
+            out[o] = add ? add[o] : 0.0;
+    } else if (op.isDiagonal) {
+        for (std::size_t o = 0; o < m; ++o)
+            out[o] = add ? add[o] + op.diagonal[o] * in[o] : op.diagonal[o] * in[o];
+    } else {
+        for (std::size_t o = 0; o < m; ++o) {
+            const double* row = op.matrix.values.data() + o * m;
+            double sum = 0;
+            for (std::size_t k = 0; k <= o; ++k)
+                sum += row[k] * in[k];
+            out[o] = add ? add[o] + sum : sum;
+        }
+    }
+}
+
+// out += M^T in (m-vectors): the adjoint, carrying importance from the re-emitted wavelength o
+// back to the absorbed k (the path tracer's throughput).
+inline void addTransposedOperator(const MaterialOperator& op, const double* in, double* out) {
+    const std::size_t m = op.matrix.size;
+    for (std::size_t o = 0; o < m; ++o) {
+        if (in[o] == 0) continue;
+        const double* row = op.matrix.values.data() + o * m;
+        for (std::size_t k = 0; k <= o; ++k)
+            out[k] += in[o] * row[k];
+    }
+}
 
 // The two scene facts the `auto` wavelength set depends on (wavelength_set.h): some material
 // (or punctual light with a spectrum) emits mostly UV, and some material is fluorescent.

@@ -30,26 +30,6 @@ constexpr uint32_t kRowGrain = 8;
 constexpr std::size_t kShotGrain = 512;
 constexpr std::size_t kHugePage = std::size_t(2) << 20;
 
-// out = E + M g (one patch, m values).
-void applyOperator(const MaterialOperator& op, const double* emission, const double* gathered,
-                   std::size_t m, double* out) {
-    if (op.isZero) {
-        std::copy(emission, emission + m, out);
-    } else if (op.isDiagonal) {
-        for (std::size_t k = 0; k < m; ++k)
-            out[k] = emission[k] + op.diagonal[k] * gathered[k];
-    } else {
-        // M is lower-triangular in wavelength order (fluorescence.h): row o reads k <= o.
-        for (std::size_t o = 0; o < m; ++o) {
-            double sum = 0;
-            const double* row = op.matrix.values.data() + o * m;
-            for (std::size_t k = 0; k <= o; ++k)
-                sum += row[k] * gathered[k];
-            out[o] = emission[o] + sum;
-        }
-    }
-}
-
 // A_i sum_k w_k |x_k|.
 double rowPower(const RadiositySystem& system, uint32_t row, const double* x) {
     double sum = 0;
@@ -211,7 +191,7 @@ double Solver::jacobiIteration() {
                               std::fill(g, g + m_, 0.0);
                               gatherRow(f_.rowOffsets[i], f_.rowOffsets[i + 1], g);
                               double* out = rowOf(next_, i);
-                              applyOperator(op(i), system_.emissionRow(i), g, m_, out);
+                              applyOperator(op(i), g, out, system_.emissionRow(i));
                               rowChange_[i] = rowPowerOfDifference(system_, i, out, rowOf(b_, i));
                           }
                       });
@@ -255,7 +235,7 @@ double Solver::gaussSeidelIteration() {
             const auto [inBegin, inEnd] = inBlock_[i - blockBegin];
             gatherRow(inBegin, inEnd, g);
             double* row = rowOf(b_, i);
-            applyOperator(op(i), system_.emissionRow(i), g, m_, scratch_.data());
+            applyOperator(op(i), g, scratch_.data(), system_.emissionRow(i));
             rowChange_[i] = rowPowerOfDifference(system_, i, scratch_.data(), row);
             std::copy(scratch_.begin(), scratch_.end(), row);
             refreshMirror(i, i + 1);
@@ -284,7 +264,7 @@ double Solver::southwellIteration() {
         // The targets of one shot are distinct patches: updated in parallel, each on its own.
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, targets.size(), kShotGrain),
                           [&](const tbb::blocked_range<std::size_t>& range) {
-                              std::vector<double> received(m_), delta(m_), zero(m_, 0.0);
+                              std::vector<double> received(m_), delta(m_);
                               for (std::size_t p = range.begin(); p != range.end(); ++p) {
                                   const uint32_t j = targets[p];
                                   const MaterialOperator& target = op(j);
@@ -292,8 +272,7 @@ double Solver::southwellIteration() {
                                   const double f = factors[p];
                                   for (std::size_t k = 0; k < m_; ++k)
                                       received[k] = f * shot[k];
-                                  applyOperator(target, zero.data(), received.data(), m_,
-                                                delta.data());
+                                  applyOperator(target, received.data(), delta.data());
                                   double* bj = rowOf(b_, j);
                                   double* uj = rowOf(unshot_, j);
                                   for (std::size_t k = 0; k < m_; ++k) {
@@ -370,7 +349,7 @@ Expected<SolverResult> Solver::run() {
                 gatherAll(f_, b_, m_, g_, 0);
                 for (uint32_t i = 0; i < n; ++i) {
                     double* u = rowOf(unshot_, i);
-                    applyOperator(op(i), system_.emissionRow(i), rowOf(g_, i), m_, u);
+                    applyOperator(op(i), rowOf(g_, i), u, system_.emissionRow(i));
                     double* b = rowOf(b_, i);
                     for (std::size_t k = 0; k < m_; ++k) {
                         u[k] -= b[k];
@@ -534,8 +513,8 @@ double relativeResidual(const RadiositySystem& system, std::span<const double> r
     std::vector<double> row(m);
     double residual = 0, norm = 0;
     for (uint32_t i = 0; i < system.patchCount; ++i) {
-        applyOperator(system.operators[system.patchOperator[i]], system.emissionRow(i),
-                      gathered.data() + std::size_t(i) * m, m, row.data());
+        applyOperator(system.operators[system.patchOperator[i]],
+                      gathered.data() + std::size_t(i) * m, row.data(), system.emissionRow(i));
         residual += rowPowerOfDifference(system, i, row.data(), radiosity.data() + i * m);
         norm += rowPower(system, i, radiosity.data() + i * m);
     }

@@ -145,19 +145,28 @@ TriangleMesh halfOccludedSquares() {
     return mesh;
 }
 
+Scene furnaceWithABoxOnItsFloor() {
+    Scene scene;
+    scene.path = "furnace-box";
+    scene.mesh = unitCubeRoom(8);
+    addSolidBox(scene.mesh, {0.35, 0.35, 0}, {0.3, 0.3, 0.3});
+    scene.materials = {flatMaterial("flat", 0.5, 1)};
+    return scene;
+}
+
 PatchMesh patchesOf(const TriangleMesh& mesh) {
     return std::move(buildPatchMesh(mesh, 0).value());
 }
 
-double groupFactor(const PatchMesh& mesh, const SparseMatrix& f, uint32_t a0, uint32_t a1,
+double groupFactor(const PatchMesh& mesh, const Transport& transport, uint32_t a0, uint32_t a1,
                    uint32_t b0, uint32_t b1) {
     double flux = 0, area = 0;
+    std::vector<TransportEntry> row;
     for (uint32_t i = a0; i < a1; ++i) {
         area += mesh.areas[i];
-        const auto columns = f.rowColumns(i);
-        const auto values = f.rowValues(i);
-        for (std::size_t k = 0; k < columns.size(); ++k)
-            if (columns[k] >= b0 && columns[k] < b1) flux += mesh.areas[i] * values[k];
+        transport.row(i, row);
+        for (const TransportEntry& entry : row)
+            if (entry.patch >= b0 && entry.patch < b1) flux += mesh.areas[i] * entry.factor;
     }
     return flux / area;
 }

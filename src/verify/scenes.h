@@ -7,7 +7,7 @@
 
 #include "geometry/mesh.h"
 #include "geometry/patch_mesh.h"
-#include "radiosity/sparse_matrix.h"
+#include "radiosity/transport.h"
 #include "scene/scene.h"
 
 namespace daisy::verify {
@@ -45,6 +45,10 @@ TriangleMesh unitCubeRoom(int n);
 // order z = 0, z = max, y = 0, y = max, x = 0, x = max.
 void addSolidBox(TriangleMesh& mesh, Vec3d origin, Vec3d size, int n = 1);
 
+// The white furnace (unitCubeRoom(8), E = 1, rho = 0.5, B = 2 everywhere in view) with a closed
+// 0.3 m box standing on its floor: the floor patches along the base run partly under it.
+Scene furnaceWithABoxOnItsFloor();
+
 // Appends the cube [lo, hi]^3 as 12 triangles (addQuad), facing inwards (a room) or outwards
 // (an object); faces in the order x = lo, x = hi, y = lo, y = hi, z = lo, z = hi.
 void addCube(TriangleMesh& mesh, double lo, double hi, bool inward);
@@ -71,7 +75,7 @@ PatchMesh patchesOf(const TriangleMesh& mesh);
 
 // Area-weighted factor from the patch range [a0, a1) to [b0, b1): F_AB = sum A_i F_ij / A_A,
 // the factor between the two unions.
-double groupFactor(const PatchMesh& mesh, const SparseMatrix& f, uint32_t a0, uint32_t a1,
+double groupFactor(const PatchMesh& mesh, const Transport& transport, uint32_t a0, uint32_t a1,
                    uint32_t b0, uint32_t b1);
 
 }  // namespace daisy::verify

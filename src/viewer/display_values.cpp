@@ -11,11 +11,12 @@ namespace daisy::viewer {
 FalseRange displayValues(const DisplaySnapshot& snapshot, const DisplaySettings& settings,
                          std::vector<float>& values) {
     const std::size_t m = snapshot.wavelengthCount;
-    const std::size_t channels = m + 4;  // L_0 .. L_{m-1}, X, Y, Z, coverage
+    const ChannelLayout& layout = snapshot.layout;
+    const std::size_t channels = std::size_t(layout.count());
     const std::size_t patchCount = snapshot.patchValues.size() / channels;
     const std::size_t scalarChannel = settings.quantity == DisplayQuantity::Wavelength
-        ? std::min(settings.wavelengthIndex, m - 1)
-        : m + 1;
+        ? std::size_t(layout.radiance(std::min(settings.wavelengthIndex, m - 1)))
+        : std::size_t(layout.y());
     values.assign(patchCount * 3 * 4, 0.0f);
     float largest = 0, smallest = INFINITY;
     for (std::size_t p = 0; p < patchCount; ++p) {
@@ -24,9 +25,9 @@ FalseRange displayValues(const DisplaySnapshot& snapshot, const DisplaySettings&
                 ? snapshot.corners.data() + (p * 3 + corner) * channels
                 : snapshot.patchValues.data() + p * channels;
             float* out = values.data() + (p * 3 + corner) * 4;
-            out[0] = source[m];
-            out[1] = source[m + 1];
-            out[2] = source[m + 2];
+            out[0] = source[layout.x()];
+            out[1] = source[layout.y()];
+            out[2] = source[layout.z()];
             out[3] = source[scalarChannel];
             if (out[3] > 0 && std::isfinite(out[3])) {
                 largest = std::max(largest, out[3]);

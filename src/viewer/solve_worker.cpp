@@ -42,12 +42,10 @@ struct SolveWorker::Command {
 SolveWorker::SolveWorker(Session session)
     : session_(std::move(session)),
       patches_(session_.patches()),
-      formFactors_(&session_.formFactors()),
+      transportStats_(session_.transport().stats()),
+      transportKind_(session_.transport().kind()),
       initialScene_(session_.scene()) {
-    if (session_.hasSolution()) {
-        lastGathered_ = session_.solution().gathered;
-        iteration_ = session_.solution().iterations;
-    }
+    if (session_.hasSolution()) iteration_ = session_.solution().iterations;
     publish("", false);
     thread_ = std::thread([this] { run(); });
 }
@@ -121,8 +119,10 @@ void SolveWorker::publish(const std::string& message, bool solving) {
     snapshot->wavelengthCount = set.size();
     for (std::size_t k = 0; k < set.size(); ++k)
         snapshot->wavelengthsNm.push_back(set.wavelengthNm(k));
+    snapshot->layout = session_.channelLayout(true);
     snapshot->corners = session_.cornerChannels(true);
     snapshot->patchValues = session_.patchChannels(true);
+    snapshot->radiosity = session_.displayRadiosity();
     snapshot->materials = session_.scene().materials;
     snapshot->iteration = iteration_;
     snapshot->change = change_;
@@ -132,7 +132,7 @@ void SolveWorker::publish(const std::string& message, bool solving) {
     snapshot->refusedEdits = refusedEdits_;
     if (session_.hasSolution() && !solving) {
         const SolverResult& result = session_.solution();
-        snapshot->gathered = result.gathered;
+        snapshot->gathered = session_.lastGathered();
         snapshot->residual = result.gathered.empty() ? -1 : result.residual;
         snapshot->converged = result.converged;
     }
@@ -173,29 +173,14 @@ void SolveWorker::solve(bool bounce) {
         return;
     }
     iteration_ = solved->iterations;
-    if (solved->gathered.size() == solved->radiosity.size()) lastGathered_ = solved->gathered;
     publish("", false);
 }
 
 void SolveWorker::firstBounce(std::size_t material) {
-    const RadiositySystem& system = session_.system();
-    const std::size_t n = system.patchCount, m = system.wavelengthCount;
-    if (!session_.hasSolution() || lastGathered_.size() != n * m) return;
-    std::vector<double> radiosity = session_.solution().radiosity;
-    if (radiosity.size() != n * m) return;
-    for (std::size_t p = 0; p < n; ++p) {
-        if (patches_.materials[p] != material) continue;
-        const ReradiationMatrix& reradiation = system.operators[system.patchOperator[p]].matrix;
-        const double* gathered = lastGathered_.data() + p * m;
-        const double* emission = system.emissionRow(uint32_t(p));
-        for (std::size_t o = 0; o < m; ++o) {
-            double b = emission[o];
-            for (std::size_t k = 0; k <= o; ++k)  // lower-triangular (fluorescence.h)
-                b += reradiation(o, k) * gathered[k];
-            radiosity[p * m + o] = b;
-        }
-    }
-    session_.setSolution(std::move(radiosity));
+    std::vector<uint8_t> selected(patches_.patchCount());
+    for (std::size_t p = 0; p < selected.size(); ++p)
+        selected[p] = patches_.materials[p] == material;
+    if (!session_.previewBounce(selected)) return;
     publish("", true);
     std::unique_lock lock(mutex_);
     shownChanged_.wait_for(lock, std::chrono::duration<double>(kPreviewWaitSeconds),

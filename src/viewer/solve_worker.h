@@ -1,10 +1,10 @@
 #pragma once
-// The viewer's background solver (issue 15 item 4): owns the session after F is built and runs
-// every edit and solve on its own thread, so the window keeps drawing. A new command cancels the
-// solve running (core/cancel.h); material edits re-solve warm from the last B with the cached F,
+// The viewer's background solver: owns the session after its transport is built and runs every
+// edit and solve on its own thread, so the window keeps drawing. A new command cancels the solve
+// running (core/cancel.h); material edits re-solve warm from the last B on the same transport,
 // which is never rebuilt (Session::setMaterial). Before that solve, the edited material's patches
-// get one bounce of the light that last reached them, B_i = E_i + M_i G_i with the last solve's
-// G = F B (radiosity_system.h): an image within milliseconds of the edit, which the solve then
+// get one bounce of the light that reached them in the last finished solve
+// (Session::previewBounce): an image within milliseconds of the edit, which the solve then
 // corrects. While a solve runs, the iterate is published every kPublishSeconds (and after the
 // first iteration), so the picture updates as it converges.
 #include <condition_variable>
@@ -26,9 +26,11 @@ struct DisplaySnapshot {
     uint64_t version = 0;  // increases with every snapshot
     std::size_t wavelengthCount = 0;  // m
     std::vector<double> wavelengthsNm;
-    std::vector<float> corners;  // Session::cornerChannels(true): patches x 3 x (m + 4)
-    std::vector<float> patchValues;  // Session::patchChannels(true): patches x (m + 4)
-    std::vector<double> gathered;  // G = F B of the last finished solve (patches x m); or empty
+    ChannelLayout layout;  // of corners and patchValues (spectral)
+    std::vector<float> corners;  // Session::cornerChannels(true): patches x 3 x channels
+    std::vector<float> patchValues;  // Session::patchChannels(true): patches x channels
+    std::vector<double> radiosity;  // B shown (patches x m)
+    std::vector<double> gathered;  // G of the last finished solve (patches x m); or empty
     std::vector<Material> materials;  // the session's, edits applied
     int iteration = 0;  // of the solve running or last run
     double change = 0;  // ||B^k - B^(k-1)|| / ||B^k|| of the last published iterate
@@ -75,7 +77,8 @@ public:
 
     // Immutable after construction, safe to read from any thread.
     const PatchMesh& patches() const { return patches_; }
-    const SparseMatrix& formFactors() const { return *formFactors_; }
+    const TransportStats& transportStats() const { return transportStats_; }
+    const char* transportKind() const { return transportKind_; }
     const Scene& initialScene() const { return initialScene_; }
 
 private:
@@ -89,7 +92,8 @@ private:
 
     Session session_;
     const PatchMesh& patches_;
-    const SparseMatrix* formFactors_;
+    TransportStats transportStats_;
+    const char* transportKind_;
     Scene initialScene_;
     mutable std::mutex mutex_;
     std::condition_variable wake_;
@@ -105,7 +109,6 @@ private:
     double change_ = 0;
     std::string message_;
     int refusedEdits_ = 0;
-    std::vector<double> lastGathered_;  // G = F B of the last solve that returned one
     double editPostedAt_ = -1;  // steady-clock seconds of the last edit's post
     std::thread thread_;
 };

@@ -21,10 +21,11 @@ void statistics(const UiState& state, const DisplaySnapshot& snapshot, const Sol
     ImGui::Text("%s", scene.path.c_str());
     ImGui::Text("%zu patches from %zu triangles, %zu materials", worker.patches().patchCount(),
                 scene.mesh.triangleCount(), scene.materials.size());
-    ImGui::Text("%zu wavelengths (%.0f..%.0f nm), F: %s entries", snapshot.wavelengthCount,
+    ImGui::Text("%zu wavelengths (%.0f..%.0f nm), %s transport: %s entries",
+                snapshot.wavelengthCount,
                 snapshot.wavelengthsNm.empty() ? 0.0 : snapshot.wavelengthsNm.front(),
                 snapshot.wavelengthsNm.empty() ? 0.0 : snapshot.wavelengthsNm.back(),
-                formatCount(worker.formFactors().nonzeroCount()).c_str());
+                worker.transportKind(), formatCount(worker.transportStats().entries).c_str());
     ImGui::Text("frame %.2f ms, exposure %.2f EV", state.frameSeconds * 1e3, state.appliedEv);
 }
 
@@ -183,12 +184,11 @@ void pickedPatch(const UiState& state, const DisplaySnapshot& snapshot, const Sc
         return;
     }
     const std::size_t p = *state.picked, m = snapshot.wavelengthCount;
-    if (m == 0 || (p + 1) * (m + 4) > snapshot.patchValues.size()) return;
+    if (m == 0 || (p + 1) * m > snapshot.radiosity.size()) return;
     std::vector<float> radiosity(m), incident(m);
     float topB = 0, topG = 0;
     for (std::size_t k = 0; k < m; ++k) {
-        // patchValues hold radiance L = B / pi (Session::patchChannels).
-        radiosity[k] = float(snapshot.patchValues[p * (m + 4) + k] * 3.14159265358979);
+        radiosity[k] = float(snapshot.radiosity[p * m + k]);
         incident[k] = snapshot.gathered.size() == worker.patches().patchCount() * m
             ? float(snapshot.gathered[p * m + k])
             : 0.0f;

@@ -61,12 +61,14 @@ struct InputEvents {
 // applies it) measured on a ray-cast image of the snapshot's smooth corner values.
 double measureExposure(const PatchMesh& mesh, const Camera& camera, const DisplaySnapshot& snapshot,
                        int width, int height) {
-    const std::size_t m = snapshot.wavelengthCount;
-    const std::size_t corners = snapshot.corners.size() / (m + 4);
-    std::vector<float> xyz(corners * 4);
+    const ChannelLayout& layout = snapshot.layout;
+    const std::size_t channels = std::size_t(layout.count());
+    const std::size_t corners = snapshot.corners.size() / channels;
+    std::vector<float> xyz(corners * 4);  // X Y Z coverage
     for (std::size_t c = 0; c < corners; ++c) {
-        for (std::size_t k = 0; k < 4; ++k)
-            xyz[c * 4 + k] = snapshot.corners[c * (m + 4) + m + k];
+        const float* v = snapshot.corners.data() + c * channels;
+        for (int k = 0; k < 4; ++k)
+            xyz[c * 4 + std::size_t(k)] = v[layout.x() + k];
     }
     RenderSettings settings;
     settings.width = std::max(width, 1);

@@ -18,6 +18,7 @@
 #include "backend/embree_ray_caster.h"
 #include "radiosity/form_factors_internal.h"
 #include "radiosity/matrix_compare.h"
+#include "radiosity/matrix_transport.h"
 #include "shared/formfactor.h"
 #include "verify/closed_forms.h"
 #include "verify/scenes.h"
@@ -44,7 +45,7 @@ FormFactorResult build(const PatchMesh& mesh, FormFactorSettings settings) {
 
 double halfToHalf(const PatchMesh& mesh, const SparseMatrix& f) {
     const auto half = static_cast<uint32_t>(mesh.patchCount() / 2);
-    return groupFactor(mesh, f, 0, half, half, 2 * half);
+    return groupFactor(mesh, MatrixTransport(f), 0, half, half, 2 * half);
 }
 
 // Default settings (hybrid, L = 1, K = 16): within 0.1% of both closed forms (measured: ~1e-5,
@@ -152,9 +153,10 @@ TEST(FormFactors, ReciprocityIsExactUpToFloatRounding) {
 TEST(FormFactors, OccluderHalfwayHidesExactlyHalf) {
     const PatchMesh open = patchesOf(parallelSquares(8, 2));
     const PatchMesh blocked = patchesOf(verify::halfOccludedSquares());
-    const double unoccluded = groupFactor(open, build(open, {}).matrix, 0, 128, 128, 256);
+    const double unoccluded =
+        groupFactor(open, MatrixTransport(build(open, {}).matrix), 0, 128, 128, 256);
     const FormFactorResult result = build(blocked, {});
-    const double occluded = groupFactor(blocked, result.matrix, 0, 128, 128, 256);
+    const double occluded = groupFactor(blocked, MatrixTransport(result.matrix), 0, 128, 128, 256);
     // Howell C-11 with a = b = 1, c = 2 (X = Y = 0.5): 0.0685895888185526.
     EXPECT_NEAR(unoccluded, kHowellC11Distance2, 5e-4 * kHowellC11Distance2);
     EXPECT_NEAR(occluded / unoccluded, 0.5, 0.002);

@@ -86,11 +86,11 @@ TEST(NearFieldGather, ConcaveCornerMatchesThePointToPolygonClosedForm) {
     auto exposure = patchExposure(patches);
     ASSERT_TRUE(exposure.ok());
     EXPECT_EQ(*std::min_element(exposure->fraction.begin(), exposure->fraction.end()), 1.0f);
-    const NearField field = NearField::build(patches, session.system(), session.formFactors(),
+    const NearField field = NearField::build(patches, session.system(), session.transport(),
                                              radiosity, *exposure, settings);
     ASSERT_FALSE(field.empty());
     const std::vector<Vec3d> wallCorners = {{0, 0, 0}, {0, 1, 0}, {0, 1, 1}, {0, 0, 1}};
-    const SparseMatrix& f = session.formFactors();
+    std::vector<TransportEntry> row;
     double worstSmooth = 0;
     for (const double y : {0.3, 0.5, 0.61}) {
         for (const double x : {0.2, 0.06, 0.01, 0.001}) {
@@ -106,10 +106,9 @@ TEST(NearFieldGather, ConcaveCornerMatchesThePointToPolygonClosedForm) {
             EXPECT_DOUBLE_EQ(omega, irradiance);
             // The patch mean the smooth image interpolates: sum_j F_pj B_j over the wall.
             double patchMean = 0;
-            const auto columns = f.rowColumns(at.patch);
-            const auto values = f.rowValues(at.patch);
-            for (std::size_t e = 0; e < columns.size(); ++e)
-                patchMean += wall[columns[e]] ? values[e] : 0.0;
+            session.transport().row(at.patch, row);
+            for (const TransportEntry& entry : row)
+                patchMean += wall[entry.patch] ? entry.factor : 0.0;
             worstSmooth = std::max(worstSmooth, (exact - patchMean) / exact);
         }
     }
@@ -146,7 +145,7 @@ TEST(NearFieldGather, StripLitByAThinFinFollowsThePointToPolygonClosedForm) {
         radiosity[p] = patches.normals[p].x > 0.99 ? 1.0 : 0.0;
     auto exposure = patchExposure(patches);
     ASSERT_TRUE(exposure.ok());
-    const NearField field = NearField::build(patches, session.system(), session.formFactors(),
+    const NearField field = NearField::build(patches, session.system(), session.transport(),
                                              radiosity, *exposure, NearFieldSettings{});
     EXPECT_GT(field.exactPairCount(), 0u);
     for (const double y : {0.35, 0.5, 0.7}) {
@@ -195,24 +194,12 @@ TEST(NearFieldGather, WhiteFurnaceIsUniformWithTheNearFieldOn) {
     std::vector<double> radiosity = session.solution().radiosity;
     auto exposure = patchExposure(session.patches());
     ASSERT_TRUE(exposure.ok());
-    const NearField field =
-        NearField::build(session.patches(), session.system(), session.formFactors(), radiosity,
-                         *exposure, nearField);
+    const NearField field = NearField::build(session.patches(), session.system(),
+                                             session.transport(), radiosity, *exposure, nearField);
     double irradiance = 0;
     const FloorPoint at = floorPointAt(session.patches(), 0.01, 0.5);
     ASSERT_NE(at.patch, kNoPatch);
     EXPECT_GT(field.addIrradiance(at.patch, at.u, at.v, std::span<double>(&irradiance, 1)), 0.3);
-}
-
-// The white furnace (E = 1, rho = 0.5, B = 2 everywhere) with a closed box standing on its
-// floor of 8 x 8 quads.
-Scene furnaceWithABoxOnItsFloor() {
-    Scene scene;
-    scene.path = "furnace-box";
-    scene.mesh = verify::unitCubeRoom(8);
-    verify::addSolidBox(scene.mesh, {0.35, 0.35, 0}, {0.3, 0.3, 0.3});
-    scene.materials = {verify::flatMaterial("flat", 0.5, 1)};
-    return scene;
 }
 
 // A closed box standing on the furnace's subdivided floor: the floor patches along its base run
@@ -222,7 +209,7 @@ Scene furnaceWithABoxOnItsFloor() {
 // gather takes them out. 1,024 shadow rays a pixel keep the direct light's own noise (lights
 // half hidden by the box) under 0.5%.
 TEST(NearFieldGather, BoxOnTheFurnaceFloorLosesItsDarkBand) {
-    Session session = solvedSession(furnaceWithABoxOnItsFloor(), 0);
+    Session session = solvedSession(verify::furnaceWithABoxOnItsFloor(), 0);
     const Camera camera =
         test::lookAtCamera("base", {0.5, 0.02, 0.45}, {0.5, 0.35, 0.05}, {0, 0, 1}, 0.9);
     RenderSettings settings;
@@ -262,12 +249,12 @@ TEST(NearFieldGather, BoxOnTheFurnaceFloorLosesItsDarkBand) {
 // E + (B_i - E) / phi_i must be 2, as the fully exposed patches' B_i are, and nothing escapes
 // a closed room. The whole-patch solve lost the buried shares' light at every bounce.
 TEST(ExposedSolve, BoxOnTheFurnaceFloorKeepsEveryExposedPartAtTheFurnaceValue) {
-    Session session = solvedSession(furnaceWithABoxOnItsFloor(), 0);
+    Session session = solvedSession(verify::furnaceWithABoxOnItsFloor(), 0);
     auto exposure = session.exposure();
     ASSERT_TRUE(exposure.ok()) << exposure.error().message;
     const std::vector<float>& phi = (*exposure)->fraction;
     const std::vector<double>& b = session.solution().radiosity;
-    const std::span<const double> rows = session.formFactorRowSums();
+    const std::span<const double> rows = session.transport().rowSums();
     // The box's bottom lies on the floor and sees nothing (row 0): left out.
     int partly = 0;
     double worstPartly = 0, worstExposed = 0;

@@ -10,6 +10,8 @@
 #include <cmath>
 #include <vector>
 
+#include "radiosity/matrix_transport.h"
+
 namespace daisy::verify {
 namespace {
 
@@ -148,10 +150,11 @@ TEST(Scenes, GroupFactorIsTheAreaWeightedSum) {
     f.values = {0.125f, 0.0625f, 0.5f, 0.25f};
     f.rowOffsets = {0, 2, 4, 4, 4};
     ASSERT_EQ(validateStructure(f), "");
+    const MatrixTransport transport(f);
     // (0.5 (0.125 + 0.0625) + 0.5 (0.25)) / 1; F_10 lies outside [2, 4).
-    EXPECT_DOUBLE_EQ(groupFactor(mesh, f, 0, 2, 2, 4), 0.21875);
-    EXPECT_DOUBLE_EQ(groupFactor(mesh, f, 1, 2, 0, 1), 0.5);
-    EXPECT_DOUBLE_EQ(groupFactor(mesh, f, 2, 4, 0, 4), 0);
+    EXPECT_DOUBLE_EQ(groupFactor(mesh, transport, 0, 2, 2, 4), 0.21875);
+    EXPECT_DOUBLE_EQ(groupFactor(mesh, transport, 1, 2, 0, 1), 0.5);
+    EXPECT_DOUBLE_EQ(groupFactor(mesh, transport, 2, 4, 0, 4), 0);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // What the viewer draws per vertex (viewer/display_values.h), on a hand-made snapshot whose
-// values are known: the layout of Session::cornerChannels / patchChannels, the false-colour
+// values are known: the channel layout of pipeline/channel_layout.h, the false-colour
 // scalar, and the automatic range's rule.
 #if DAISY_HAVE_VIEWER
 #include "viewer/display_values.h"
@@ -17,6 +17,7 @@ namespace {
 DisplaySnapshot snapshot() {
     DisplaySnapshot s;
     s.wavelengthCount = 2;
+    s.layout = {2, true};
     s.wavelengthsNm = {365, 550};
     for (int p = 0; p < 2; ++p) {
         for (int c = 0; c < 3; ++c) {

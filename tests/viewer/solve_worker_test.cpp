@@ -78,6 +78,7 @@ TEST(SolveWorker, EditsCancelledByNewerOnesConvergeToTheDirectSolve) {
 TEST(SolveWorker, OneBounceFromEmissionIsOneJacobiStep) {
     Session session = solvedRoom();
     const RadiositySystem system = session.system();
+    const std::shared_ptr<const Transport> transport = session.sharedTransport();
     SolveWorker worker(std::move(session));
     worker.resetToEmission();
     waitIdle(worker);
@@ -86,19 +87,20 @@ TEST(SolveWorker, OneBounceFromEmissionIsOneJacobiStep) {
     const auto snapshot = worker.latest();
     EXPECT_EQ(snapshot->iteration, 1);
     const std::size_t n = system.patchCount, m = system.wavelengthCount;
-    const SparseMatrix& f = worker.formFactors();
+    std::vector<TransportEntry> row;
     double worst = 0, largest = 0;
     for (uint32_t i = 0; i < n; ++i) {
         const MaterialOperator& op = system.operators[system.patchOperator[i]];
+        transport->row(i, row);
         for (std::size_t k = 0; k < m; ++k) {
             double gathered = 0;
-            const auto columns = f.rowColumns(i);
-            const auto values = f.rowValues(i);
-            for (std::size_t e = 0; e < columns.size(); ++e)
-                gathered += values[e] * system.emission[columns[e] * m + k];
+            for (const TransportEntry& entry : row)
+                gathered += entry.factor * system.emission[entry.patch * m + k];
             const double b = system.emission[i * m + k] + op.diagonal[k] * gathered;
-            // patchValues: radiance L = B / pi per sample (Session::patchChannels).
-            const double shown = kPi * snapshot->patchValues[i * (m + 4) + k];
+            // patchValues: radiance L = B / pi per sample (channel_layout.h).
+            const double shown = kPi *
+                snapshot->patchValues[i * std::size_t(snapshot->layout.count()) +
+                                      std::size_t(snapshot->layout.radiance(k))];
             worst = std::max(worst, std::abs(shown - b));
             largest = std::max(largest, b);
         }

@@ -15,6 +15,7 @@
 #include "backend/quiet_settings.h"
 #include "pipeline/backend_registry.h"
 #include "radiosity/matrix_compare.h"
+#include "radiosity/matrix_transport.h"
 #include "scene/load_scene.h"
 #include "test_util.h"
 #include "verify/closed_forms.h"
@@ -51,7 +52,7 @@ PatchMesh cornellBox() {
 
 // Area-weighted factor from patches [0, n/2) to [n/2, 2 n/2) (the first square to the second).
 double firstToSecond(const PatchMesh& mesh, const SparseMatrix& f, uint32_t half) {
-    return verify::groupFactor(mesh, f, 0, half, half, 2 * half);
+    return verify::groupFactor(mesh, MatrixTransport(f), 0, half, half, 2 * half);
 }
 
 // Entries of either matrix farther apart than rtol max(|a|, |b|) + 1e-7 (counted; the five worst
