@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The view-factor benchmark family of issue 18 (tools/make_formfactor_family.py): for each scene,
+# The view-factor benchmark family (tools/make_formfactor_family.py): for each scene,
 # tools/bench_formfactors on the cpu backend with shaft culling off, culling always (no cost
 # model) and culling with the cost model, interleaved in one run so that load from other work
 # hits all three alike. Prints one row a scene: the three pair-loop times, their ratios, the

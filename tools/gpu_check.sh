@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The check of the cuda backend on an NVIDIA machine (issue 17, docs/gpu.md), after building:
+# The check of the cuda backend on an NVIDIA machine (docs/gpu.md), after building:
 #
 #   bash tools/gpu_check.sh [BUILD_DIR] [REPORT_FILE]      (defaults: build, gpu_check_report.txt)
 #

@@ -1,4 +1,4 @@
-"""Generates tests/data/blender/: real glTF files written by Blender's own exporter (issue 19).
+"""Generates tests/data/blender/: real glTF files written by Blender's own exporter.
 
 Run once with Debian's blender 3.4 (not a build dependency; the outputs are committed):
     blender --background --factory-startup --python tools/make_blender_corpus.py -- tests/data/blender

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""Writes a KHR_draco_mesh_compression copy of a glTF file (issue 19 test data).
+"""Writes a KHR_draco_mesh_compression copy of a glTF file (test data for the
+Draco decoder).
 
 Usage: tools/make_draco_fixture.py IN.gltf OUT.gltf
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Generates assets/scenes/formfactor_family/: the view-factor benchmark family of issue 18, each
+"""Generates assets/scenes/formfactor_family/: the view-factor benchmark family, each
 scene in a full version of about 7,700 triangles (the size of assets/scenes/blacklight_box.gltf,
 scene (a), which tools/make_benchmark_box.py makes) and a small version (`*_small.gltf`, a few
 hundred triangles) for the cross-backend tests (tests/backend/formfactor_family_test.cpp):

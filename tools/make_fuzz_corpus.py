@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the fuzz targets' seed corpora, tests/fuzz/corpus/<target>/ (issue 14): every committed
+"""Writes the fuzz targets' seed corpora, tests/fuzz/corpus/<target>/: every committed
 .gltf scene (assets/scenes, tests/data) as .gltf and converted to .glb, hand-made OBJ+MTL scenes,
 every DAISY_materials_spectral object in those scenes plus one of each form the extension allows,
 --materials files built from them, option strings, and tiny scenes for the whole pipeline. Each
@@ -13,7 +13,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 OUT = ROOT / "tests" / "fuzz" / "corpus"
-# tests/data/blender holds exporter output with side .bin and .png files (issue 19's corpus),
+# tests/data/blender holds exporter output with side .bin and .png files (Blender's own output),
 # not self-contained seeds.
 SCENES = sorted((ROOT / "assets" / "scenes").glob("*.gltf")) + sorted(
     p for p in (ROOT / "tests" / "data").rglob("*.gltf") if "blender" not in p.parts)
@@ -145,7 +145,7 @@ def seeds():
 
 
 def regressions():
-    """(target, name, bytes): the inputs issue 14 reports as crashes or silent failures, kept in
+    """(target, name, bytes): the inputs known to have crashed daisy or failed silently, kept in
     tests/fuzz/crashes/<target>/ so ctest replays them."""
     room = json.loads((ROOT / "tests" / "data" / "gltf" / "lamp_room.gltf").read_text())
 
