@@ -5,6 +5,7 @@
 // device.
 #include <volk.h>
 
+#include "core/expected.h"
 #include "vulkan/context.h"
 
 namespace daisy::viewer {
@@ -16,9 +17,10 @@ struct HostBuffer {
     void* mapped = nullptr;  // host-visible, coherent, mapped for the buffer's life
 };
 
-// A mapped buffer of `bytes` (> 0) with `usage`.
-HostBuffer createHostBuffer(const VulkanContext& context, VkDeviceSize bytes,
-                            VkBufferUsageFlags usage);
+// A mapped buffer of `bytes` (> 0) with `usage`. An Error (VK_CHECK) when the device cannot make
+// it; nothing is left allocated then.
+Expected<HostBuffer> createHostBuffer(const VulkanContext& context, VkDeviceSize bytes,
+                                      VkBufferUsageFlags usage);
 void destroyHostBuffer(const VulkanContext& context, HostBuffer& buffer);
 
 struct DeviceImage {
@@ -27,9 +29,11 @@ struct DeviceImage {
     VkImageView view = VK_NULL_HANDLE;
 };
 
-// A 2D device-local image with one mip level and its view of `aspect`.
-DeviceImage createDeviceImage(const VulkanContext& context, uint32_t width, uint32_t height,
-                              VkFormat format, VkImageUsageFlags usage, VkImageAspectFlags aspect);
+// A 2D device-local image with one mip level and its view of `aspect`. An Error (VK_CHECK) when
+// the device cannot make it; nothing is left allocated then.
+Expected<DeviceImage> createDeviceImage(const VulkanContext& context, uint32_t width,
+                                        uint32_t height, VkFormat format, VkImageUsageFlags usage,
+                                        VkImageAspectFlags aspect);
 void destroyDeviceImage(const VulkanContext& context, DeviceImage& image);
 
 }  // namespace daisy::viewer

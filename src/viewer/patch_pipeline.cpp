@@ -10,7 +10,7 @@
 namespace daisy::viewer {
 namespace {
 
-VkShaderModule shaderModule(const VulkanContext& context, const char* name) {
+Expected<VkShaderModule> shaderModule(const VulkanContext& context, const char* name) {
     const std::span<const uint32_t> spirv = embeddedSpirv(name);
     DAISY_CHECK(!spirv.empty());
     VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
@@ -21,10 +21,11 @@ VkShaderModule shaderModule(const VulkanContext& context, const char* name) {
     return module;
 }
 
-}  // namespace
-
-PatchPipeline createPatchPipeline(const VulkanContext& context, VkRenderPass renderPass) {
-    PatchPipeline result;
+// The layout and pipeline of createPatchPipeline into `result` over the two shader modules; what
+// it made stays in `result` when it fails, for the caller to destroy.
+Expected<void> makePatchPipeline(const VulkanContext& context, VkRenderPass renderPass,
+                                 VkShaderModule vertex, VkShaderModule fragment,
+                                 PatchPipeline& result) {
     const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                                     sizeof(shared::ViewerPush)};
     VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
@@ -32,8 +33,6 @@ PatchPipeline createPatchPipeline(const VulkanContext& context, VkRenderPass ren
     layoutInfo.pPushConstantRanges = &range;
     VK_CHECK(vkCreatePipelineLayout(context.device, &layoutInfo, nullptr, &result.layout));
 
-    VkShaderModule vertex = shaderModule(context, "viewer_patches.vert");
-    VkShaderModule fragment = shaderModule(context, "viewer_patches.frag");
     VkPipelineShaderStageCreateInfo stages[2]{};
     stages[0].sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
     stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
@@ -104,8 +103,27 @@ PatchPipeline createPatchPipeline(const VulkanContext& context, VkRenderPass ren
     info.subpass = 0;
     VK_CHECK(vkCreateGraphicsPipelines(context.device, VK_NULL_HANDLE, 1, &info, nullptr,
                                        &result.pipeline));
-    vkDestroyShaderModule(context.device, vertex, nullptr);
-    vkDestroyShaderModule(context.device, fragment, nullptr);
+    return {};
+}
+
+}  // namespace
+
+Expected<PatchPipeline> createPatchPipeline(const VulkanContext& context, VkRenderPass renderPass) {
+    auto vertex = shaderModule(context, "viewer_patches.vert");
+    if (!vertex) return vertex.error();
+    auto fragment = shaderModule(context, "viewer_patches.frag");
+    if (!fragment) {
+        vkDestroyShaderModule(context.device, *vertex, nullptr);
+        return fragment.error();
+    }
+    PatchPipeline result;
+    auto made = makePatchPipeline(context, renderPass, *vertex, *fragment, result);
+    vkDestroyShaderModule(context.device, *vertex, nullptr);
+    vkDestroyShaderModule(context.device, *fragment, nullptr);
+    if (!made) {
+        destroyPatchPipeline(context, result);
+        return made.error();
+    }
     return result;
 }
 
@@ -115,13 +133,15 @@ void destroyPatchPipeline(const VulkanContext& context, PatchPipeline& pipeline)
     pipeline = PatchPipeline{};
 }
 
-PatchBuffers createPatchBuffers(const VulkanContext& context, const PatchMesh& mesh,
-                                int framesInFlight) {
+Expected<PatchBuffers> createPatchBuffers(const VulkanContext& context, const PatchMesh& mesh,
+                                          int framesInFlight) {
     PatchBuffers buffers;
     buffers.vertexCount = uint32_t(3 * mesh.patchCount());
     const VkDeviceSize vertices = std::max<VkDeviceSize>(buffers.vertexCount, 3);
-    buffers.positions =
+    auto positions =
         createHostBuffer(context, vertices * 4 * sizeof(float), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+    if (!positions) return positions.error();
+    buffers.positions = *positions;
     // w = 1 on both faces of a double-sided surface (PatchMesh::backPatch): the fragment shader
     // keeps only the face turned to the camera, so the coincident pair does not z-fight.
     std::vector<uint8_t> twoSided(mesh.patchCount(), 0);
@@ -140,8 +160,13 @@ PatchBuffers createPatchBuffers(const VulkanContext& context, const PatchMesh& m
         }
     }
     for (int f = 0; f < framesInFlight; ++f) {
-        buffers.values.push_back(createHostBuffer(context, vertices * 4 * sizeof(float),
-                                                  VK_BUFFER_USAGE_VERTEX_BUFFER_BIT));
+        auto values = createHostBuffer(context, vertices * 4 * sizeof(float),
+                                       VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+        if (!values) {
+            destroyPatchBuffers(context, buffers);
+            return values.error();
+        }
+        buffers.values.push_back(*values);
         std::memset(buffers.values.back().mapped, 0, vertices * 4 * sizeof(float));
         buffers.valueVersions.push_back(0);
     }

@@ -9,6 +9,7 @@
 
 #include <vector>
 
+#include "core/expected.h"
 #include "geometry/patch_mesh.h"
 #include "shared/viewer_types.h"
 #include "viewer/gpu_resources.h"
@@ -21,7 +22,8 @@ struct PatchPipeline {
     VkPipeline pipeline = VK_NULL_HANDLE;
 };
 
-PatchPipeline createPatchPipeline(const VulkanContext& context, VkRenderPass renderPass);
+// An Error (VK_CHECK) when the driver fails to make it; nothing is left allocated then.
+Expected<PatchPipeline> createPatchPipeline(const VulkanContext& context, VkRenderPass renderPass);
 void destroyPatchPipeline(const VulkanContext& context, PatchPipeline& pipeline);
 
 struct PatchBuffers {
@@ -31,8 +33,10 @@ struct PatchBuffers {
     uint32_t vertexCount = 0;  // 3 x patches
 };
 
-PatchBuffers createPatchBuffers(const VulkanContext& context, const PatchMesh& mesh,
-                                int framesInFlight);
+// The positions of `mesh` and zeroed values. An Error (VK_CHECK) when a buffer cannot be made;
+// nothing is left allocated then.
+Expected<PatchBuffers> createPatchBuffers(const VulkanContext& context, const PatchMesh& mesh,
+                                          int framesInFlight);
 void destroyPatchBuffers(const VulkanContext& context, PatchBuffers& buffers);
 
 // Draws the patches with `values` buffer `frame` into the render pass begun on `commandBuffer`

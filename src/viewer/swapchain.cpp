@@ -56,7 +56,8 @@ SurfaceFormats chooseSurfaceFormats(const VulkanContext& context, VkSurfaceKHR s
     return formats;
 }
 
-VkRenderPass createRenderPass(const VulkanContext& context, const SurfaceFormats& formats) {
+Expected<VkRenderPass> createRenderPass(const VulkanContext& context,
+                                        const SurfaceFormats& formats) {
     VkAttachmentDescription attachments[2]{};
     attachments[0].format = formats.colour.format;
     attachments[0].samples = VK_SAMPLE_COUNT_1_BIT;
@@ -104,9 +105,9 @@ VkRenderPass createRenderPass(const VulkanContext& context, const SurfaceFormats
     return renderPass;
 }
 
-bool createSwapchain(const VulkanContext& context, VkSurfaceKHR surface,
-                     const SurfaceFormats& formats, VkRenderPass renderPass, uint32_t width,
-                     uint32_t height, Swapchain& swapchain) {
+Expected<bool> createSwapchain(const VulkanContext& context, VkSurfaceKHR surface,
+                               const SurfaceFormats& formats, VkRenderPass renderPass,
+                               uint32_t width, uint32_t height, Swapchain& swapchain) {
     VkSurfaceCapabilitiesKHR capabilities;
     VK_CHECK(
         vkGetPhysicalDeviceSurfaceCapabilitiesKHR(context.physicalDevice, surface, &capabilities));
@@ -154,12 +155,14 @@ bool createSwapchain(const VulkanContext& context, VkSurfaceKHR surface,
     swapchain.transferSource = transferSource;
 
     uint32_t count = 0;
-    vkGetSwapchainImagesKHR(context.device, created, &count, nullptr);
+    VK_CHECK(vkGetSwapchainImagesKHR(context.device, created, &count, nullptr));
     swapchain.images.resize(count);
-    vkGetSwapchainImagesKHR(context.device, created, &count, swapchain.images.data());
-    swapchain.depth =
+    VK_CHECK(vkGetSwapchainImagesKHR(context.device, created, &count, swapchain.images.data()));
+    auto depth =
         createDeviceImage(context, extent.width, extent.height, formats.depth,
                           VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
+    if (!depth) return depth.error();
+    swapchain.depth = *depth;
     for (VkImage image : swapchain.images) {
         VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
         viewInfo.image = image;

@@ -7,6 +7,7 @@
 
 #include <vector>
 
+#include "core/expected.h"
 #include "viewer/gpu_resources.h"
 #include "vulkan/context.h"
 
@@ -36,14 +37,16 @@ struct SurfaceFormats {
 SurfaceFormats chooseSurfaceFormats(const VulkanContext& context, VkSurfaceKHR surface);
 
 // One subpass: colour (cleared to black, then presented) and depth (cleared to 0: reverse-Z).
-VkRenderPass createRenderPass(const VulkanContext& context, const SurfaceFormats& formats);
+Expected<VkRenderPass> createRenderPass(const VulkanContext& context,
+                                        const SurfaceFormats& formats);
 
 // (Re)creates `swapchain` for a framebuffer of width x height pixels (clamped to the surface's
 // limits); the previous swapchain, if any, is handed to the driver and destroyed. False when the
-// surface's extent is 0 (a minimised window): nothing is created then.
-bool createSwapchain(const VulkanContext& context, VkSurfaceKHR surface,
-                     const SurfaceFormats& formats, VkRenderPass renderPass, uint32_t width,
-                     uint32_t height, Swapchain& swapchain);
+// surface's extent is 0 (a minimised window): nothing is created then. An Error (VK_CHECK) when a
+// call fails; what was made stays in `swapchain` for destroySwapchain.
+Expected<bool> createSwapchain(const VulkanContext& context, VkSurfaceKHR surface,
+                               const SurfaceFormats& formats, VkRenderPass renderPass,
+                               uint32_t width, uint32_t height, Swapchain& swapchain);
 void destroySwapchain(const VulkanContext& context, Swapchain& swapchain);
 
 }  // namespace daisy::viewer

@@ -107,16 +107,19 @@ public:
     int run();
 
 private:
-    void initImgui();
-    bool recreateSwapchain();
+    // The render pass, pipeline, buffers, frames and swapchain on the open device.
+    Expected<void> createDeviceResources();
+    Expected<void> initImgui();
+    // False when the window is minimised (nothing made).
+    Expected<bool> recreateSwapchain();
     void handleInput(double dt);
     bool heldKey() const;  // a movement key is down (fly keys move every frame)
     void applyCameraRequest();
     void updateValues(int frame, const DisplaySnapshot& snapshot);
     void updateExposure(const DisplaySnapshot& snapshot, bool exact);
     // Draws one frame; `capture` copies its pixels into the read-back buffer. False when the
-    // frame was skipped (swapchain out of date, minimised).
-    bool drawFrame(bool capture);
+    // frame was skipped (swapchain out of date, minimised); an Error when a device call failed.
+    Expected<bool> drawFrame(bool capture);
     Expected<void> writeCapture(const std::string& path);
     void exerciseWindow(int frame);
     // After a scripted edit: when the first frame showing an updated iterate, and the first
@@ -326,10 +329,35 @@ int Viewer::open() {
     logInfo(concat("view: device '", context_.properties.deviceName, "' (",
                    deviceTypeName(context_.properties.deviceType), ")"));
 
+    if (auto made = createDeviceResources(); !made) {
+        logError(concat("daisy view: ", made.error().message));
+        return 2;
+    }
+    initUi(ui_, scene_, options_.wavelengthsText);
+    ui_.autoExposure = options_.exposure.automatic;
+    ui_.ev = static_cast<float>(options_.exposure.ev);
+    if (showPanel_ || options_.panel) {
+        if (auto made = initImgui(); !made) {
+            logError(concat("daisy view: ", made.error().message));
+            return 2;
+        }
+    }
+    showPanel_ = showPanel_ || options_.panel;
+    return 0;
+}
+
+// What it made stays in the members for the destructor when it fails.
+Expected<void> Viewer::createDeviceResources() {
     formats_ = chooseSurfaceFormats(context_, surface_);
-    renderPass_ = createRenderPass(context_, formats_);
-    pipeline_ = createPatchPipeline(context_, renderPass_);
-    buffers_ = createPatchBuffers(context_, worker_.patches(), kFramesInFlight);
+    auto renderPass = createRenderPass(context_, formats_);
+    if (!renderPass) return renderPass.error();
+    renderPass_ = *renderPass;
+    auto pipeline = createPatchPipeline(context_, renderPass_);
+    if (!pipeline) return pipeline.error();
+    pipeline_ = *pipeline;
+    auto buffers = createPatchBuffers(context_, worker_.patches(), kFramesInFlight);
+    if (!buffers) return buffers.error();
+    buffers_ = std::move(*buffers);
     for (Frame& frame : frames_) {
         VkCommandBufferAllocateInfo allocateInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
         allocateInfo.commandPool = context_.commandPool;
@@ -345,17 +373,13 @@ int Viewer::open() {
     }
     int width = 0, height = 0;
     glfwGetFramebufferSize(window_, &width, &height);
-    createSwapchain(context_, surface_, formats_, renderPass_, uint32_t(width), uint32_t(height),
-                    swapchain_);
-    initUi(ui_, scene_, options_.wavelengthsText);
-    ui_.autoExposure = options_.exposure.automatic;
-    ui_.ev = static_cast<float>(options_.exposure.ev);
-    if (showPanel_ || options_.panel) initImgui();
-    showPanel_ = showPanel_ || options_.panel;
-    return 0;
+    auto created = createSwapchain(context_, surface_, formats_, renderPass_, uint32_t(width),
+                                   uint32_t(height), swapchain_);
+    if (!created) return created.error();
+    return {};
 }
 
-void Viewer::initImgui() {
+Expected<void> Viewer::initImgui() {
     const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 16};
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
@@ -387,21 +411,22 @@ void Viewer::initImgui() {
     info.ImageCount = std::max<uint32_t>(uint32_t(swapchain_.images.size()), info.MinImageCount);
     info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
     ImGui_ImplVulkan_Init(&info, renderPass_);
-    submitAndWait(context_, [](VkCommandBuffer commandBuffer) {
+    imgui_ = true;  // the destructor shuts Dear ImGui down from here on
+    auto fonts = submitAndWait(context_, [](VkCommandBuffer commandBuffer) {
         ImGui_ImplVulkan_CreateFontsTexture(commandBuffer);
     });
     ImGui_ImplVulkan_DestroyFontUploadObjects();
-    imgui_ = true;
+    return fonts;
 }
 
-bool Viewer::recreateSwapchain() {
+Expected<bool> Viewer::recreateSwapchain() {
     int width = 0, height = 0;
     glfwGetFramebufferSize(window_, &width, &height);
     if (width == 0 || height == 0) return false;
-    vkDeviceWaitIdle(context_.device);
-    if (!createSwapchain(context_, surface_, formats_, renderPass_, uint32_t(width),
-                         uint32_t(height), swapchain_))
-        return false;
+    VK_CHECK(vkDeviceWaitIdle(context_.device));
+    auto created = createSwapchain(context_, surface_, formats_, renderPass_, uint32_t(width),
+                                   uint32_t(height), swapchain_);
+    if (!created || !*created) return created;
     if (imgui_) ImGui_ImplVulkan_SetMinImageCount(std::max(swapchain_.minImageCount, 2u));
     resized_ = false;
     return true;
@@ -547,10 +572,10 @@ void Viewer::updateExposure(const DisplaySnapshot& snapshot, bool exact) {
     ui_.appliedEv = std::log2(exposureScale_);
 }
 
-bool Viewer::drawFrame(bool capture) {
-    if (resized_ && !recreateSwapchain()) return false;
-    if (!swapchain_.swapchain) {
-        if (!recreateSwapchain()) return false;
+Expected<bool> Viewer::drawFrame(bool capture) {
+    if (resized_ || !swapchain_.swapchain) {
+        auto recreated = recreateSwapchain();
+        if (!recreated || !*recreated) return recreated;
     }
     Frame& frame = frames_[frame_];
     VK_CHECK(vkWaitForFences(context_.device, 1, &frame.fence, VK_TRUE, UINT64_MAX));
@@ -559,7 +584,8 @@ bool Viewer::drawFrame(bool capture) {
         vkAcquireNextImageKHR(context_.device, swapchain_.swapchain, UINT64_MAX,
                               frame.imageAvailable, VK_NULL_HANDLE, &imageIndex);
     if (acquired == VK_ERROR_OUT_OF_DATE_KHR) {
-        recreateSwapchain();
+        auto recreated = recreateSwapchain();
+        if (!recreated) return recreated.error();
         return false;
     }
     if (acquired != VK_SUBOPTIMAL_KHR) VK_CHECK(acquired);
@@ -615,7 +641,9 @@ bool Viewer::drawFrame(bool capture) {
             VkDeviceSize(swapchain_.extent.width) * swapchain_.extent.height * 4;
         if (readback_.bytes < bytes) {
             destroyHostBuffer(context_, readback_);
-            readback_ = createHostBuffer(context_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+            auto readback = createHostBuffer(context_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+            if (!readback) return readback.error();
+            readback_ = *readback;
         }
         VkImageMemoryBarrier barrier{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
         barrier.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
@@ -811,7 +839,14 @@ int Viewer::run() {
             worker_.idle() && sizeSettled;
         const bool capture =
             ui_.screenshotRequest || (finalFrame && !options_.screenshotPath.empty());
-        const bool drawn = drawFrame(capture);
+        auto frameDrawn = drawFrame(capture);
+        if (!frameDrawn) {
+            // A device error (out of memory, device or surface lost) ends the viewer with it.
+            logError(concat("daisy view: ", frameDrawn.error().message));
+            vkDeviceWaitIdle(context_.device);
+            return 2;
+        }
+        const bool drawn = *frameDrawn;
         if (drawn) worker_.shown(shownVersion_);
         // The frame's own time (record, submit, the wait for the frame before last): the frame
         // period when drawing continuously.

@@ -38,8 +38,9 @@ std::string windowUnavailable();
 
 // Runs the viewer on `session` (F built and solved) until the window closes, or for the test
 // mode's frames, and returns the exit status: 0, 2 for a bad --edit or --camera (checked before
-// the window opens), 1 for no display or no Vulkan device that presents (the message, logged,
-// says which).
+// the window opens) and for a failed Vulkan call (VK_CHECK's message: out of device memory, a
+// lost device or surface), 1 for no display or no Vulkan device that presents (the message,
+// logged, says which).
 int runViewer(Session session, const ViewerOptions& options);
 
 }  // namespace daisy::viewer

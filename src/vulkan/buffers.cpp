@@ -20,15 +20,12 @@ int findMemoryType(const VulkanContext& context, uint32_t typeBits,
     return -1;
 }
 
-}  // namespace
-
-VulkanBuffer createBuffer(const VulkanContext& context, VkDeviceSize bytes,
-                          VkBufferUsageFlags extraUsage, bool hostVisible) {
-    DAISY_CHECK_OP(bytes, >, 0u);
-    VulkanBuffer result;
-    result.bytes = bytes;
+// Creates result's buffer, memory and mapping for createBuffer; what it made stays in `result`
+// when it fails, for the caller to destroy.
+Expected<void> makeBuffer(const VulkanContext& context, VkBufferUsageFlags extraUsage,
+                          bool hostVisible, VulkanBuffer& result) {
     VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-    info.size = bytes;
+    info.size = result.bytes;
     info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT |
         VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | extraUsage;
     info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
@@ -66,6 +63,20 @@ VulkanBuffer createBuffer(const VulkanContext& context, VkDeviceSize bytes,
     VkBufferDeviceAddressInfo addressInfo{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
     addressInfo.buffer = result.buffer;
     result.address = vkGetBufferDeviceAddress(context.device, &addressInfo);
+    return {};
+}
+
+}  // namespace
+
+Expected<VulkanBuffer> createBuffer(const VulkanContext& context, VkDeviceSize bytes,
+                                    VkBufferUsageFlags extraUsage, bool hostVisible) {
+    DAISY_CHECK_OP(bytes, >, 0u);
+    VulkanBuffer result;
+    result.bytes = bytes;
+    if (auto made = makeBuffer(context, extraUsage, hostVisible, result); !made) {
+        destroyBuffer(context, result);
+        return made.error();
+    }
     return result;
 }
 
@@ -75,38 +86,42 @@ void destroyBuffer(const VulkanContext& context, VulkanBuffer& buffer) {
     buffer = VulkanBuffer{};
 }
 
-void upload(const VulkanContext& context, const VulkanBuffer& buffer, const void* data,
-            std::size_t bytes, VkDeviceSize offset) {
+Expected<void> upload(const VulkanContext& context, const VulkanBuffer& buffer, const void* data,
+                      std::size_t bytes, VkDeviceSize offset) {
     DAISY_CHECK_OP(offset + bytes, <=, buffer.bytes);
-    if (bytes == 0) return;
+    if (bytes == 0) return {};
     if (buffer.mapped) {
         std::memcpy(static_cast<char*>(buffer.mapped) + offset, data, bytes);
-        return;
+        return {};
     }
-    VulkanBuffer staging = createBuffer(context, bytes, 0, /*hostVisible=*/true);
-    std::memcpy(staging.mapped, data, bytes);
-    submitAndWait(context, [&](VkCommandBuffer commands) {
+    auto staging = createBuffer(context, bytes, 0, /*hostVisible=*/true);
+    if (!staging) return staging.error();
+    std::memcpy(staging->mapped, data, bytes);
+    auto copied = submitAndWait(context, [&](VkCommandBuffer commands) {
         const VkBufferCopy region{0, offset, bytes};
-        vkCmdCopyBuffer(commands, staging.buffer, buffer.buffer, 1, &region);
+        vkCmdCopyBuffer(commands, staging->buffer, buffer.buffer, 1, &region);
     });
-    destroyBuffer(context, staging);
+    destroyBuffer(context, *staging);
+    return copied;
 }
 
-void download(const VulkanContext& context, const VulkanBuffer& buffer, void* data,
-              std::size_t bytes, VkDeviceSize offset) {
+Expected<void> download(const VulkanContext& context, const VulkanBuffer& buffer, void* data,
+                        std::size_t bytes, VkDeviceSize offset) {
     DAISY_CHECK_OP(offset + bytes, <=, buffer.bytes);
-    if (bytes == 0) return;
+    if (bytes == 0) return {};
     if (buffer.mapped) {
         std::memcpy(data, static_cast<const char*>(buffer.mapped) + offset, bytes);
-        return;
+        return {};
     }
-    VulkanBuffer staging = createBuffer(context, bytes, 0, /*hostVisible=*/true);
-    submitAndWait(context, [&](VkCommandBuffer commands) {
+    auto staging = createBuffer(context, bytes, 0, /*hostVisible=*/true);
+    if (!staging) return staging.error();
+    auto copied = submitAndWait(context, [&](VkCommandBuffer commands) {
         const VkBufferCopy region{offset, 0, bytes};
-        vkCmdCopyBuffer(commands, buffer.buffer, staging.buffer, 1, &region);
+        vkCmdCopyBuffer(commands, buffer.buffer, staging->buffer, 1, &region);
     });
-    std::memcpy(data, staging.mapped, bytes);
-    destroyBuffer(context, staging);
+    if (copied) std::memcpy(data, staging->mapped, bytes);
+    destroyBuffer(context, *staging);
+    return copied;
 }
 
 }  // namespace daisy

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "core/expected.h"
 #include "vulkan/context.h"
 
 namespace daisy {
@@ -20,16 +21,18 @@ struct VulkanBuffer {
     void* mapped = nullptr;  // host pointer when the memory is host-visible and coherent
 };
 
-// A storage buffer of `bytes` (> 0) with a device address; `extraUsage` adds usage bits. Aborts
-// through VK_CHECK when the device is out of memory (callers size buffers from device limits).
-VulkanBuffer createBuffer(const VulkanContext& context, VkDeviceSize bytes,
-                          VkBufferUsageFlags extraUsage = 0, bool hostVisible = false);
+// A storage buffer of `bytes` (> 0) with a device address; `extraUsage` adds usage bits. An
+// Error (VK_CHECK) when the device cannot make it, e.g. out of device memory; nothing is left
+// allocated then.
+Expected<VulkanBuffer> createBuffer(const VulkanContext& context, VkDeviceSize bytes,
+                                    VkBufferUsageFlags extraUsage = 0, bool hostVisible = false);
 void destroyBuffer(const VulkanContext& context, VulkanBuffer& buffer);
 
-// Copies `bytes` from host `data` into the buffer at byte `offset` (in range), and back.
-void upload(const VulkanContext& context, const VulkanBuffer& buffer, const void* data,
-            std::size_t bytes, VkDeviceSize offset = 0);
-void download(const VulkanContext& context, const VulkanBuffer& buffer, void* data,
-              std::size_t bytes, VkDeviceSize offset = 0);
+// Copies `bytes` from host `data` into the buffer at byte `offset` (in range), and back. Errors
+// only on the staging path (a staging buffer or the copy's submission failed).
+Expected<void> upload(const VulkanContext& context, const VulkanBuffer& buffer, const void* data,
+                      std::size_t bytes, VkDeviceSize offset = 0);
+Expected<void> download(const VulkanContext& context, const VulkanBuffer& buffer, void* data,
+                        std::size_t bytes, VkDeviceSize offset = 0);
 
 }  // namespace daisy

@@ -1,6 +1,5 @@
 #include "vulkan/context.h"
 
-#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <vector>
@@ -10,53 +9,6 @@
 #include "vulkan/vk_check.h"
 
 namespace daisy {
-
-const char* vkResultName(VkResult result) {
-    switch (result) {
-#define DAISY_VK_RESULT(name) \
-    case name:                \
-        return #name;
-        DAISY_VK_RESULT(VK_SUCCESS)
-        DAISY_VK_RESULT(VK_NOT_READY)
-        DAISY_VK_RESULT(VK_TIMEOUT)
-        DAISY_VK_RESULT(VK_EVENT_SET)
-        DAISY_VK_RESULT(VK_EVENT_RESET)
-        DAISY_VK_RESULT(VK_INCOMPLETE)
-        DAISY_VK_RESULT(VK_ERROR_OUT_OF_HOST_MEMORY)
-        DAISY_VK_RESULT(VK_ERROR_OUT_OF_DEVICE_MEMORY)
-        DAISY_VK_RESULT(VK_ERROR_INITIALIZATION_FAILED)
-        DAISY_VK_RESULT(VK_ERROR_DEVICE_LOST)
-        DAISY_VK_RESULT(VK_ERROR_MEMORY_MAP_FAILED)
-        DAISY_VK_RESULT(VK_ERROR_LAYER_NOT_PRESENT)
-        DAISY_VK_RESULT(VK_ERROR_EXTENSION_NOT_PRESENT)
-        DAISY_VK_RESULT(VK_ERROR_FEATURE_NOT_PRESENT)
-        DAISY_VK_RESULT(VK_ERROR_INCOMPATIBLE_DRIVER)
-        DAISY_VK_RESULT(VK_ERROR_TOO_MANY_OBJECTS)
-        DAISY_VK_RESULT(VK_ERROR_FORMAT_NOT_SUPPORTED)
-        DAISY_VK_RESULT(VK_ERROR_FRAGMENTED_POOL)
-        DAISY_VK_RESULT(VK_ERROR_UNKNOWN)
-        DAISY_VK_RESULT(VK_ERROR_OUT_OF_POOL_MEMORY)
-        DAISY_VK_RESULT(VK_ERROR_INVALID_EXTERNAL_HANDLE)
-        DAISY_VK_RESULT(VK_ERROR_FRAGMENTATION)
-        DAISY_VK_RESULT(VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS)
-#undef DAISY_VK_RESULT
-        default:
-            break;
-    }
-    static thread_local char text[32];
-    std::snprintf(text, sizeof text, "VkResult(%d)", static_cast<int>(result));
-    return text;
-}
-
-namespace detail {
-void vkCheckFailed(VkResult result, const char* call, const char* file, int line) {
-    std::fprintf(stderr, "daisy: Vulkan call failed: %s returned %s at %s:%d\n", call,
-                 vkResultName(result), file, line);
-    std::fflush(stderr);
-    std::abort();
-}
-}  // namespace detail
-
 namespace {
 
 const char* const kNoDevice =
@@ -399,10 +351,17 @@ Expected<VulkanContext> createDevice(VkInstance instance, VkPhysicalDevice physi
             concat("cannot create a logical device on '", name, "' (", vkResultName(result), ")")};
     }
     vkGetDeviceQueue(context.device, context.queueFamily, 0, &context.queue);
-    VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-    poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-    poolInfo.queueFamilyIndex = context.queueFamily;
-    VK_CHECK(vkCreateCommandPool(context.device, &poolInfo, nullptr, &context.commandPool));
+    auto pool = [&]() -> Expected<void> {
+        VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+        poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+        poolInfo.queueFamilyIndex = context.queueFamily;
+        VK_CHECK(vkCreateCommandPool(context.device, &poolInfo, nullptr, &context.commandPool));
+        return {};
+    }();
+    if (!pool) {
+        destroyContext(context);
+        return pool.error();
+    }
     return context;
 }
 
@@ -428,31 +387,51 @@ void destroyContext(VulkanContext& context) {
     context = VulkanContext{};
 }
 
-VkCommandBuffer beginOneShot(const VulkanContext& context) {
+Expected<VkCommandBuffer> beginOneShot(const VulkanContext& context) {
     VkCommandBufferAllocateInfo allocateInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
     allocateInfo.commandPool = context.commandPool;
     allocateInfo.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
     allocateInfo.commandBufferCount = 1;
     VkCommandBuffer commandBuffer = VK_NULL_HANDLE;
     VK_CHECK(vkAllocateCommandBuffers(context.device, &allocateInfo, &commandBuffer));
-    VkCommandBufferBeginInfo beginInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    beginInfo.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    VK_CHECK(vkBeginCommandBuffer(commandBuffer, &beginInfo));
+    auto begun = [&]() -> Expected<void> {
+        VkCommandBufferBeginInfo beginInfo{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        beginInfo.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        VK_CHECK(vkBeginCommandBuffer(commandBuffer, &beginInfo));
+        return {};
+    }();
+    if (!begun) {
+        vkFreeCommandBuffers(context.device, context.commandPool, 1, &commandBuffer);
+        return begun.error();
+    }
     return commandBuffer;
 }
 
-void endOneShot(const VulkanContext& context, VkCommandBuffer commandBuffer) {
-    VK_CHECK(vkEndCommandBuffer(commandBuffer));
-    VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+Expected<void> endOneShot(const VulkanContext& context, VkCommandBuffer commandBuffer) {
     VkFence fence = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateFence(context.device, &fenceInfo, nullptr, &fence));
-    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &commandBuffer;
-    VK_CHECK(vkQueueSubmit(context.queue, 1, &submit, fence));
+    const auto release = [&] {
+        if (fence) vkDestroyFence(context.device, fence, nullptr);
+        vkFreeCommandBuffers(context.device, context.commandPool, 1, &commandBuffer);
+    };
+    auto submitted = [&]() -> Expected<void> {
+        VK_CHECK(vkEndCommandBuffer(commandBuffer));
+        VkFenceCreateInfo fenceInfo{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        VK_CHECK(vkCreateFence(context.device, &fenceInfo, nullptr, &fence));
+        VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+        submit.commandBufferCount = 1;
+        submit.pCommandBuffers = &commandBuffer;
+        VK_CHECK(vkQueueSubmit(context.queue, 1, &submit, fence));
+        return {};
+    }();
+    if (!submitted) {
+        release();  // nothing was queued
+        return submitted.error();
+    }
+    // A failed wait (a lost device) leaves the fence and the command buffer, which may still be
+    // pending, to destroyContext.
     VK_CHECK(vkWaitForFences(context.device, 1, &fence, VK_TRUE, UINT64_MAX));
-    vkDestroyFence(context.device, fence, nullptr);
-    vkFreeCommandBuffers(context.device, context.commandPool, 1, &commandBuffer);
+    release();
+    return {};
 }
 
 }  // namespace daisy

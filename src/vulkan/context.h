@@ -73,19 +73,22 @@ Expected<VulkanContext> createDevice(VkInstance instance, VkPhysicalDevice physi
 Expected<VulkanContext> createContext(const std::string& selector);
 void destroyContext(VulkanContext& context);
 
-// Records commands into a fresh primary command buffer with `record`, submits it and waits.
+// Records commands into a fresh primary command buffer with `record`, submits it and waits. An
+// Error (VK_CHECK) when a call fails, e.g. the device is lost; `record` is not called when the
+// command buffer cannot be begun.
 template <typename Record>
-void submitAndWait(const VulkanContext& context, Record&& record);
+Expected<void> submitAndWait(const VulkanContext& context, Record&& record);
 
 // Implementation detail of submitAndWait.
-VkCommandBuffer beginOneShot(const VulkanContext& context);
-void endOneShot(const VulkanContext& context, VkCommandBuffer commandBuffer);
+Expected<VkCommandBuffer> beginOneShot(const VulkanContext& context);
+Expected<void> endOneShot(const VulkanContext& context, VkCommandBuffer commandBuffer);
 
 template <typename Record>
-void submitAndWait(const VulkanContext& context, Record&& record) {
-    VkCommandBuffer commandBuffer = beginOneShot(context);
-    record(commandBuffer);
-    endOneShot(context, commandBuffer);
+Expected<void> submitAndWait(const VulkanContext& context, Record&& record) {
+    auto commandBuffer = beginOneShot(context);
+    if (!commandBuffer) return commandBuffer.error();
+    record(*commandBuffer);
+    return endOneShot(context, *commandBuffer);
 }
 
 }  // namespace daisy

@@ -7,23 +7,15 @@
 
 namespace daisy {
 
-ComputePipeline createComputePipeline(const VulkanContext& context, std::span<const uint32_t> spirv,
-                                      uint32_t pushConstantBytes,
-                                      std::span<const int32_t> specialization) {
-    DAISY_CHECK(!spirv.empty());
-    DAISY_CHECK_OP(pushConstantBytes, <=, context.properties.limits.maxPushConstantsSize);
-    ComputePipeline result;
-    result.pushConstantBytes = pushConstantBytes;
+namespace {
 
-    VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    moduleInfo.codeSize = spirv.size_bytes();
-    moduleInfo.pCode = spirv.data();
-    VkShaderModule module = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateShaderModule(context.device, &moduleInfo, nullptr, &module));
-
-    const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes};
+// The layout and pipeline of createComputePipeline into `result` over `module`; what it made stays
+// in `result` when it fails, for the caller to destroy.
+Expected<void> makePipeline(const VulkanContext& context, VkShaderModule module,
+                            std::span<const int32_t> specialization, ComputePipeline& result) {
+    const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, result.pushConstantBytes};
     VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    layoutInfo.pushConstantRangeCount = pushConstantBytes > 0 ? 1 : 0;
+    layoutInfo.pushConstantRangeCount = result.pushConstantBytes > 0 ? 1 : 0;
     layoutInfo.pPushConstantRanges = &range;
     VK_CHECK(vkCreatePipelineLayout(context.device, &layoutInfo, nullptr, &result.layout));
 
@@ -42,7 +34,30 @@ ComputePipeline createComputePipeline(const VulkanContext& context, std::span<co
     pipelineInfo.layout = result.layout;
     VK_CHECK(vkCreateComputePipelines(context.device, VK_NULL_HANDLE, 1, &pipelineInfo, nullptr,
                                       &result.pipeline));
+    return {};
+}
+
+}  // namespace
+
+Expected<ComputePipeline> createComputePipeline(const VulkanContext& context,
+                                                std::span<const uint32_t> spirv,
+                                                uint32_t pushConstantBytes,
+                                                std::span<const int32_t> specialization) {
+    DAISY_CHECK(!spirv.empty());
+    DAISY_CHECK_OP(pushConstantBytes, <=, context.properties.limits.maxPushConstantsSize);
+    VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    moduleInfo.codeSize = spirv.size_bytes();
+    moduleInfo.pCode = spirv.data();
+    VkShaderModule module = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateShaderModule(context.device, &moduleInfo, nullptr, &module));
+    ComputePipeline result;
+    result.pushConstantBytes = pushConstantBytes;
+    auto made = makePipeline(context, module, specialization, result);
     vkDestroyShaderModule(context.device, module, nullptr);
+    if (!made) {
+        destroyComputePipeline(context, result);
+        return made.error();
+    }
     return result;
 }
 

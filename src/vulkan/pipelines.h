@@ -8,6 +8,7 @@
 #include <span>
 #include <string_view>
 
+#include "core/expected.h"
 #include "vulkan/context.h"
 
 namespace daisy {
@@ -24,10 +25,12 @@ std::span<const uint32_t> embeddedSpirv(std::string_view name);
 
 // A compute pipeline over `spirv` (entry point "main") with a push-constant range of
 // pushConstantBytes (<= maxPushConstantsSize) bytes. specialization[k] is the value of the
-// 32-bit specialization constant with constant_id k (the shader's defaults where absent).
-ComputePipeline createComputePipeline(const VulkanContext& context, std::span<const uint32_t> spirv,
-                                      uint32_t pushConstantBytes,
-                                      std::span<const int32_t> specialization = {});
+// 32-bit specialization constant with constant_id k (the shader's defaults where absent). An
+// Error (VK_CHECK) when the driver fails to make it; nothing is left allocated then.
+Expected<ComputePipeline> createComputePipeline(const VulkanContext& context,
+                                                std::span<const uint32_t> spirv,
+                                                uint32_t pushConstantBytes,
+                                                std::span<const int32_t> specialization = {});
 void destroyComputePipeline(const VulkanContext& context, ComputePipeline& pipeline);
 
 }  // namespace daisy

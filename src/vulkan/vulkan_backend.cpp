@@ -79,17 +79,16 @@ private:
 
     // The pair kernel specialised to (method constant, level, DAISY_PAIR_MODE_*)
     // (shaders/form_factors.comp.glsl), compiled on first use and kept for the next build.
-    const ComputePipeline& pipeline(int method, int level, int mode) {
+    Expected<const ComputePipeline*> pipeline(int method, int level, int mode) {
         const std::array<int32_t, 3> key{method, level, mode};
         auto found = pipelines_.find(key);
         if (found == pipelines_.end()) {
-            found = pipelines_
-                        .emplace(key,
-                                 createComputePipeline(context_, embeddedSpirv("form_factors.comp"),
-                                                       sizeof(PairKernelParams), key))
-                        .first;
+            auto created = createComputePipeline(context_, embeddedSpirv("form_factors.comp"),
+                                                 sizeof(PairKernelParams), key);
+            if (!created) return created.error();
+            found = pipelines_.emplace(key, *created).first;
         }
-        return found->second;
+        return &found->second;
     }
 
     VulkanContext context_;
@@ -107,8 +106,12 @@ Expected<VulkanBuffer> VulkanBackend::uploadArray(const void* data, std::size_t 
             context_.properties.deviceName, "'); use a larger --subdivide or --backend cpu")};
     }
     // Vulkan buffers cannot be empty; a 1-patch scene still gets 64 bytes.
-    VulkanBuffer buffer = createBuffer(context_, std::max<std::size_t>(bytes, 64));
-    upload(context_, buffer, data, bytes);
+    auto buffer = createBuffer(context_, std::max<std::size_t>(bytes, 64));
+    if (!buffer) return buffer.error();
+    if (auto uploaded = upload(context_, *buffer, data, bytes); !uploaded) {
+        destroyBuffer(context_, *buffer);
+        return uploaded.error();
+    }
     return buffer;
 }
 
@@ -158,10 +161,17 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
                                  DAISY_PAIR_WORKGROUP_SIZE);
     dispatchPairs = std::min(dispatchPairs, groupLimit);
 
-    VulkanBuffer pairBuffer = createBuffer(context_, batchPairs * sizeof(PairIndex));
-    VulkanBuffer resultBuffer = createBuffer(context_, batchPairs * sizeof(PairFactors));
-    owned.push_back(pairBuffer);
-    owned.push_back(resultBuffer);
+    for (const std::size_t bytes :
+         {batchPairs * sizeof(PairIndex), batchPairs * sizeof(PairFactors)}) {
+        auto buffer = createBuffer(context_, bytes);
+        if (!buffer) {
+            release();
+            return buffer.error();
+        }
+        owned.push_back(*buffer);
+    }
+    const VulkanBuffer pairBuffer = owned[3];
+    const VulkanBuffer resultBuffer = owned[4];
 
     PairKernelParams params{};
     params.patches = owned[0].address;
@@ -175,16 +185,20 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
     params.clearance = kEndClearanceRelative;
 
     // Runs the kernel in `mode` over pairs (at most batchPairs) into out.
-    const auto run = [&](std::span<const PairIndex> pairs, int mode, std::span<PairFactors> out) {
-        const ComputePipeline& kernel = pipeline(params.method, params.level, mode);
-        upload(context_, pairBuffer, pairs.data(), pairs.size_bytes());
+    const auto run = [&](std::span<const PairIndex> pairs, int mode,
+                         std::span<PairFactors> out) -> Expected<void> {
+        auto made = pipeline(params.method, params.level, mode);
+        if (!made) return made.error();
+        const ComputePipeline& kernel = **made;
+        auto uploaded = upload(context_, pairBuffer, pairs.data(), pairs.size_bytes());
+        if (!uploaded) return uploaded;
         for (std::size_t first = 0; first < pairs.size(); first += dispatchPairs) {
             params.pairOffset = uint32_t(first);
             params.pairCount = uint32_t(std::min<uint64_t>(dispatchPairs, pairs.size() - first));
             const uint32_t groups =
                 (params.pairCount + DAISY_PAIR_WORKGROUP_SIZE - 1) / DAISY_PAIR_WORKGROUP_SIZE;
             // One submission per dispatch: a watchdog sees one short job at a time.
-            submitAndWait(context_, [&](VkCommandBuffer commands) {
+            auto ran = submitAndWait(context_, [&](VkCommandBuffer commands) {
                 vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.pipeline);
                 vkCmdPushConstants(commands, kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
                                    sizeof params, &params);
@@ -196,8 +210,9 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
                                      VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
                                      1, &barrier, 0, nullptr, 0, nullptr);
             });
+            if (!ran) return ran;
         }
-        download(context_, resultBuffer, out.data(), out.size_bytes());
+        return download(context_, resultBuffer, out.data(), out.size_bytes());
     };
     // The unoccluded factors of pairs into out. Hybrid: every pair through the pipeline without
     // the refinement first (DAISY_PAIR_MODE_FAR_FIELD), then those it marks as having a near cell
@@ -207,12 +222,10 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
     std::vector<uint32_t> nearSlot;
     std::vector<PairFactors> nearFactors;
     uint64_t nearPairs = 0;
-    const auto runFactors = [&](std::span<const PairIndex> pairs, std::span<PairFactors> out) {
-        if (params.method != DAISY_METHOD_HYBRID) {
-            run(pairs, DAISY_PAIR_MODE_FACTORS, out);
-            return;
-        }
-        run(pairs, DAISY_PAIR_MODE_FAR_FIELD, out);
+    const auto runFactors = [&](std::span<const PairIndex> pairs,
+                                std::span<PairFactors> out) -> Expected<void> {
+        if (params.method != DAISY_METHOD_HYBRID) return run(pairs, DAISY_PAIR_MODE_FACTORS, out);
+        if (auto ran = run(pairs, DAISY_PAIR_MODE_FAR_FIELD, out); !ran) return ran;
         near.clear();
         nearSlot.clear();
         for (std::size_t k = 0; k < pairs.size(); ++k) {
@@ -222,11 +235,12 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
             }
         }
         nearPairs += near.size();
-        if (near.empty()) return;
+        if (near.empty()) return {};
         nearFactors.resize(near.size());
-        run(near, DAISY_PAIR_MODE_FACTORS, nearFactors);
+        if (auto ran = run(near, DAISY_PAIR_MODE_FACTORS, nearFactors); !ran) return ran;
         for (std::size_t k = 0; k < near.size(); ++k)
             out[nearSlot[k]] = nearFactors[k];
+        return {};
     };
     // Pairs with rays: V_ij first, then the quadrature only for the pairs some ray reaches, and
     // F = factor * V in float, as pairEntry rounds it (shared/pair_kernel.h).
@@ -240,14 +254,14 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
         params.rays = rays;
         if (rays == 0) {
             const auto start = Clock::now();
-            runFactors(pairs, out);
+            if (auto ran = runFactors(pairs, out); !ran) return ran;
             factorPairs += pairs.size();
             factorSeconds += secondsSince(start);
             return {};
         }
         auto start = Clock::now();
         visibility.resize(pairs.size());
-        run(pairs, DAISY_PAIR_MODE_VISIBILITY, visibility);
+        if (auto ran = run(pairs, DAISY_PAIR_MODE_VISIBILITY, visibility); !ran) return ran;
         visibilitySeconds += secondsSince(start);
         open.clear();
         openSlot.clear();
@@ -263,7 +277,7 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
         if (open.empty()) return {};
         start = Clock::now();
         factors.resize(open.size());
-        runFactors(open, factors);
+        if (auto ran = runFactors(open, factors); !ran) return ran;
         factorPairs += open.size();
         for (std::size_t k = 0; k < open.size(); ++k) {
             const float v = visibility[openSlot[k]].fij;
