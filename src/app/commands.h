@@ -26,6 +26,11 @@ int runValidate(const CommonOptions& options, const ValidateOptions& validate);
 // `daisy bench [SCENE] [--stress] [--quick] [-o results.csv]` (issue 7).
 int runBench(const CommonOptions& options, const BenchOptions& bench);
 
+// `daisy cache list|clear|prune [--cache DIR] [--cache-size N]` (docs/cache.md): adds the
+// subcommand with its options bound to `options`; runCache runs it.
+CLI::App* addCacheCommand(CLI::App& app, CacheOptions& options);
+int runCache(const CacheOptions& options);
+
 // For subcommands whose stage has not landed: says so on stderr and returns 2.
 int notBuiltYet(const char* command, const char* stage);
 

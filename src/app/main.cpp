@@ -175,12 +175,15 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 100.0))
         ->capture_default_str();
 
+    CacheOptions cacheOptions;
+    auto* cacheCmd = addCacheCommand(app, cacheOptions);
+
     const std::string first = argc > 1 ? argv[1] : "";
     if (!first.empty() && first[0] != '-' &&
         app.get_subcommands([&](CLI::App* sub) { return sub->check_name(first); }).empty()) {
         std::fprintf(stderr,
                      "error: unknown command '%s' (expected render, solve, formfactors, info, "
-                     "view, validate or bench; see daisy --help)\n",
+                     "view, validate, bench or cache; see daisy --help)\n",
                      first.c_str());
         return 2;
     }
@@ -204,6 +207,7 @@ int main(int argc, char** argv) {
                             : common.verbose ? daisy::Verbosity::Verbose
                                              : daisy::Verbosity::Normal);
 
+    if (*cacheCmd) return runCache(cacheOptions);
     if (*infoCmd) return runInfo(common);
     if (*formFactorsCmd) return runFormFactors(common, exports);
     if (*validateCmd && common.backend != "vulkan" && common.backend != "cuda") {

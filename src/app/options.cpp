@@ -18,15 +18,20 @@ const CLI::Validator kWavelengthSet(
     },
     "SET", "wavelength set");
 
-const CLI::Validator kByteSize(
-    [](std::string& text) {
-        uint64_t bytes = 0;
-        if (!parseByteSize(text, bytes) || bytes == 0) {
-            return concat("'", text, "' is not a memory size (e.g. 4G, 512MiB, 1000000)");
-        }
-        return std::string();
-    },
-    "BYTES", "memory size");
+// A positive size in bytes (core/strings.h parseByteSize); `what` names it in the message.
+CLI::Validator byteSizeValidator(const std::string& what) {
+    return CLI::Validator(
+        [what](std::string& text) {
+            uint64_t bytes = 0;
+            if (!parseByteSize(text, bytes) || bytes == 0) {
+                return concat("'", text, "' is not a ", what, " (e.g. 4G, 512MiB, 1000000)");
+            }
+            return std::string();
+        },
+        "BYTES", what);
+}
+
+const CLI::Validator kByteSize = byteSizeValidator("memory size");
 
 // --tolerance: a relative residual in [1e-12, 0.5]; says so with the value given.
 const CLI::Validator kTolerance(
@@ -108,6 +113,7 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
         .add_option("--max-memory", options.maxMemoryText,
                     "Refuse work needing more memory (default: 80% of RAM)")
         ->check(kByteSize);
+    addCacheSizeOption(command, options.cacheSizeText);
     auto* quiet = command.add_flag("--quiet,-q", options.quiet, "No progress or warnings");
     command.add_flag("--verbose,-v", options.verbose, "More detail")->excludes(quiet);
     command.add_option("--mtl-convention", options.mtlConvention, "How MTL files are read")
@@ -117,8 +123,18 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
         ->check(CLI::ExistingFile);
 }
 
+void addCacheSizeOption(CLI::App& command, std::string& text) {
+    command
+        .add_option("--cache-size", text,
+                    "Size limit of the form-factor cache; least recently used entries are "
+                    "evicted (default: a tenth of the free space, at most 4 GiB)")
+        ->check(byteSizeValidator("cache size"));
+}
+
 void finishCommonOptions(CommonOptions& options) {
     options.wavelengthSpec = *parseWavelengthSpec(options.wavelengths);
+    if (!options.cacheSizeText.empty())
+        parseByteSize(options.cacheSizeText, options.cacheSizeBytes);
     if (options.maxMemoryText.empty()) {
         const uint64_t physical = physicalMemoryBytes();
         options.maxMemoryBytes = physical > 0 ? physical / 10 * 8 : UINT64_MAX;  // 0: unknown

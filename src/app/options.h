@@ -37,6 +37,8 @@ struct CommonOptions {
     uint64_t seed = 1;
     std::string cacheDir;  // --cache DIR; empty = the default folder (unless noCache)
     bool noCache = false;  // --no-cache: neither read nor write the disk cache of F
+    std::string cacheSizeText;  // --cache-size as typed; parsed into cacheSizeBytes
+    uint64_t cacheSizeBytes = 0;  // the disk cache's size limit; 0 = the default
     std::string maxMemoryText;  // as typed; parsed into maxMemoryBytes
     uint64_t maxMemoryBytes = 0;  // default: 80% of physical memory
     bool quiet = false;
@@ -108,14 +110,25 @@ struct BenchOptions {
     double referenceNoise = 0;  // percent: the reference stops once its noise is under it
 };
 
+// `daisy cache ACTION`: the disk cache's folder as a whole (app/cache.cpp).
+struct CacheOptions {
+    std::string action;  // list | clear | prune
+    std::string cacheDir;  // --cache DIR; empty = the default folder
+    std::string cacheSizeText;  // --cache-size as typed; empty = the default limit
+};
+
 // Adds the scene argument and the common options to a subcommand.
 void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequired = true);
 
-// Fills the fields parsed from already-validated text (wavelengthSpec, maxMemoryBytes).
+// Fills the fields parsed from already-validated text (wavelengthSpec, maxMemoryBytes,
+// cacheSizeBytes).
 void finishCommonOptions(CommonOptions& options);
 
 // `--background R,G,B`: three comma-separated numbers in [0, 1]; nullopt for anything else.
 std::optional<std::array<double, 3>> parseBackground(const std::string& text);
+
+// Adds --cache-size BYTES (a size as --max-memory takes it) to a command, into `text`.
+void addCacheSizeOption(CLI::App& command, std::string& text);
 
 // Physical memory of this machine in bytes (0 when unknown).
 uint64_t physicalMemoryBytes();

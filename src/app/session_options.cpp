@@ -30,6 +30,7 @@ SessionSettings sessionSettingsFrom(const CommonOptions& options, PatchSizeDefau
             ? FormFactorCache::defaultDirectory()
             : std::filesystem::path(options.cacheDir);
         if (!directory.empty()) settings.cacheDirectory = directory;  // empty: no HOME
+        settings.cacheSizeBytes = options.cacheSizeBytes;
     }
     settings.maxMemoryBytes = options.maxMemoryBytes;
     return settings;

@@ -266,7 +266,7 @@ Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel,
     std::optional<FormFactorCache> cache;
     FormFactorKey key;
     if (s.settings.cacheDirectory) {
-        cache.emplace(*s.settings.cacheDirectory);
+        cache.emplace(*s.settings.cacheDirectory, s.settings.cacheSizeBytes);
         key = formFactorKey();
         report.cachePath = cache->entryPath(key).string();
         CacheLookup lookup = [&] {

@@ -62,6 +62,7 @@ struct SessionSettings {
     std::optional<WavelengthSet> wavelengthSet;
     SolverSettings solver;  // kind, tolerance, maxIterations, threads
     std::optional<std::filesystem::path> cacheDirectory;  // the disk cache of F; unset = none
+    uint64_t cacheSizeBytes = 0;  // its size limit; 0 = the default (core/cache_folder.h)
     uint64_t maxMemoryBytes = UINT64_MAX;  // refuse patches and F needing more
     bool logStages = true;  // log the stage lines ("view factors: ...", "solve: ...")
 };

@@ -78,53 +78,18 @@ void reseal(std::string& bytes) {
 }
 
 // The directory's entries, by name.
+// FormFactorCache::describe of the header of the file at `path`.
+std::string describeEntry(const fs::path& path) {
+    CacheHeaderBytes bytes{};
+    std::ifstream(path, std::ios::binary).read(reinterpret_cast<char*>(bytes.data()), 64);
+    return FormFactorCache::describe(decodeCacheHeader(bytes));
+}
+
 std::vector<std::string> listing(const fs::path& dir) {
     std::vector<std::string> names;
     for (const auto& entry : fs::directory_iterator(dir))
         names.push_back(entry.path().filename().string());
     return names;
-}
-
-std::span<const std::byte> bytesOfText(std::string_view text) {
-    return std::as_bytes(std::span(text.data(), text.size()));
-}
-
-// FNV-1a 128 of "" is the offset basis by definition (draft-eastlake-fnv); "a" and "foobar" as
-// an independent Python implementation of the definition gives them:
-// h = 0x6c62272e07bb014262b821756295c58d; for each byte: h = ((h ^ byte) * (2^88 + 0x13b)) % 2^128.
-TEST(FormFactorCacheHash, Fnv1a128MatchesTheSpecification) {
-    const auto fnv = [](std::string_view text) {
-        Fnv1a128 hash;
-        hash.update(bytesOfText(text));
-        return hash.digest().hex();
-    };
-    EXPECT_EQ(fnv(""), "6c62272e07bb014262b821756295c58d");
-    EXPECT_EQ(fnv("a"), "d228cb696f1a8caf78912b704e4a8964");
-    EXPECT_EQ(fnv("foobar"), "343e1662793c64bf6f0d3597ba446f18");
-}
-
-// XXH64 reference values from libxxhash 0.8.1 (XXH64(data, len, seed), called through Python
-// ctypes), an implementation independent of ours.
-TEST(FormFactorCacheHash, Xxh64MatchesTheReferenceLibrary) {
-    EXPECT_EQ(xxh64(bytesOfText("")), 0xef46db3751d8e999ull);
-    EXPECT_EQ(xxh64(bytesOfText("a")), 0xd24ec4f1a98c6e5bull);
-    EXPECT_EQ(xxh64(bytesOfText("abc")), 0x44bc2cf5ad770999ull);
-    EXPECT_EQ(xxh64(bytesOfText("abc"), 0x9E3779B97F4A7C15ull), 0x2ed0f59d6b43ac8bull);
-    std::string long771;
-    for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 256; ++c)
-            long771.push_back(static_cast<char>(c));
-    }
-    long771 += "xyz";
-    EXPECT_EQ(xxh64(bytesOfText(long771)), 0xe921a1b45bd779f8ull);
-    EXPECT_EQ(xxh64(bytesOfText(long771), 0x9E3779B97F4A7C15ull), 0x179ca0201a65d20eull);
-    // Streaming in uneven pieces gives the one-shot digest.
-    for (std::size_t piece : {1u, 7u, 31u, 33u, 100u}) {
-        Xxh64 hash;
-        for (std::size_t at = 0; at < long771.size(); at += piece)
-            hash.update(bytesOfText(std::string_view(long771).substr(at, piece)));
-        EXPECT_EQ(hash.digest(), 0xe921a1b45bd779f8ull) << piece;
-    }
 }
 
 // The key is the FNV-1a 128 of the byte stream docs/cache.md lists, checked against an
@@ -437,6 +402,48 @@ TEST(FormFactorCache, DefaultDirectoryFollowsXdg) {
     EXPECT_EQ(FormFactorCache::defaultDirectory(), fs::path());
     restore("XDG_CACHE_HOME", xdg);
     restore("HOME", home);
+}
+
+// The size limit (docs/cache.md, "Size limit and eviction"): after a store, the least recently
+// used other entries go until the folder is under the limit, and a hit counts as a use.
+TEST(FormFactorCacheLimit, StoreEvictsTheLeastRecentlyUsed) {
+    const fs::path dir = test::testTempDir();
+    const SparseMatrix f = SparseMatrix::zeros(50);
+    FormFactorStats stats;
+    const uint64_t entryBytes = 64 + sizeof(FormFactorStats) + 8 * 51;
+    const FormFactorCache cache(dir, 3 * entryBytes);
+    EXPECT_EQ(cache.sizeLimitBytes(), 3 * entryBytes);
+    const FormFactorKey a{1, 1}, b{2, 2}, c{3, 3}, d{4, 4};
+    int hoursAgo = 3;
+    for (const FormFactorKey& key : {a, b, c}) {
+        ASSERT_EQ(cache.store(key, f, stats), "");
+        ASSERT_EQ(fs::file_size(cache.entryPath(key)), entryBytes);
+        fs::last_write_time(cache.entryPath(key),
+                            fs::file_time_type::clock::now() - std::chrono::hours(hoursAgo--));
+    }
+    // a was written first, but its hit makes b the least recently used.
+    ASSERT_EQ(cache.load(a).status, CacheLookup::Status::Hit);
+    EXPECT_EQ(cache.store(d, f, stats), "");
+    EXPECT_FALSE(fs::exists(cache.entryPath(b)));
+    for (const FormFactorKey& key : {a, c, d})
+        EXPECT_TRUE(fs::exists(cache.entryPath(key))) << key.hex();
+}
+
+// An entry larger than the whole limit is not written (one line says so), and nothing is
+// evicted for it.
+TEST(FormFactorCacheLimit, EntryOverTheLimitIsNotStored) {
+    const fs::path dir = test::testTempDir();
+    FormFactorStats stats;
+    ASSERT_EQ(FormFactorCache(dir).store({1, 1}, SparseMatrix::zeros(50), stats), "");
+    const FormFactorCache small(dir, 100);
+    const std::string message = small.store({2, 2}, SparseMatrix::zeros(50), stats);
+    EXPECT_NE(message.find("F not cached: its entry of "), std::string::npos) << message;
+    EXPECT_NE(message.find("over the cache size limit of 100 B (--cache-size)"), std::string::npos)
+        << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos);
+    const std::string kept = FormFactorKey{1, 1}.hex() + ".dff";
+    EXPECT_EQ(listing(dir), std::vector<std::string>{kept});
+    EXPECT_EQ(describeEntry(dir / kept), "F: 50 patches, 0 non-zeros");
 }
 
 // The benchmark scene (7,712 patches, docs/performance.md) and a ~1e5-patch room: the key
