@@ -2,9 +2,9 @@
 
 #include <algorithm>
 
+#include "backend/gpu_pass_plan.h"
 #include "core/strings.h"
-#include "radiosity/form_factors_internal.h"
-#include "radiosity/pair_evaluator.h"
+#include "radiosity/kernel_inputs.h"
 #include "shared/config.h"
 
 namespace daisy {
@@ -32,7 +32,7 @@ Expected<CudaBatchPlan> planCudaBatches(const CudaDeviceFacts& device, uint64_t 
     const uint64_t resident = sms * uint64_t(std::max(device.blocksPerSm, 1)) * block;
     uint64_t launch = resident * kCudaWavesPerLaunch;
     if (device.watchdog)
-        launch = std::min(launch, kCudaWatchdogLaunchWork / std::max<uint64_t>(pairWork, 1));
+        launch = std::min(launch, launchPairsForWork(kCudaWatchdogLaunchWork, pairWork, block));
     launch = std::min(launch, (usable - fixedBytes) / (2 * kCudaSlotBytesPerPair));
     if (limits.launchPairs) launch = limits.launchPairs;
     // pairCount is a uint in PairKernelParams.
@@ -52,10 +52,11 @@ shared::PairKernelParams packPairKernelParams(const FormFactorSettings& settings
     params.patches = reinterpret_cast<uint64_t>(patches);
     params.nodes = reinterpret_cast<uint64_t>(nodes);
     params.triangles = reinterpret_cast<uint64_t>(triangles);
-    params.method = detail::methodConstant(settings.method);
-    params.level = settings.quadratureLevel;
-    params.seed = detail::seed32(settings.seed);  // as the cpu, reference and vulkan backends
-    params.clearance = kEndClearanceRelative;
+    const KernelSettings kernel = kernelSettings(settings);  // as every backend passes them
+    params.method = kernel.method;
+    params.level = kernel.level;
+    params.seed = kernel.seed;
+    params.clearance = kernel.clearanceRelative;
     return params;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // How the cuda backend cuts the driver's pairs into kernel launches and packs their arguments
 // (docs/gpu.md): pure host code over a few device facts, so it is unit-tested without a device
-// (tests/cuda/batch_plan_test.cpp, pair_slot_test.cpp). No CUDA types here.
+// (tests/cuda/batch_plan_test.cpp, pair_slot_test.cpp). No CUDA types here. The passes each batch
+// runs are the shared GPU pass strategy (backend/gpu_pass_plan.h).
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -44,8 +45,9 @@ inline constexpr uint64_t kCudaSlotBytesPerPair = 16;
 inline constexpr uint64_t kCudaWavesPerLaunch = 4;
 // Launches per batch: the host packs one while the device runs another (two streams).
 inline constexpr uint64_t kCudaLaunchesPerBatch = 4;
-// Work units (shadow segments plus quadrature points, as vulkan's pairWork) of one launch on a
-// GPU with a display watchdog (~2 s on Windows): ~10 ms at the ~2e9 units/s of a current GPU.
+// Work units (shadow segments plus quadrature points: pairWork, backend/gpu_pass_plan.h) of one
+// launch on a GPU with a display watchdog (~2 s on Windows): ~10 ms at the ~2e9 units/s of a
+// current GPU.
 inline constexpr uint64_t kCudaWatchdogLaunchWork = uint64_t(1) << 24;
 // Fraction of the free memory the plan may use; the rest is left to the driver and the display.
 inline constexpr double kCudaMemoryFraction = 0.9;
@@ -60,8 +62,8 @@ Expected<CudaBatchPlan> planCudaBatches(const CudaDeviceFacts& device, uint64_t 
                                         uint64_t pairWork, const CudaBatchLimits& limits = {});
 
 // The pair kernel's arguments for a build: the device addresses of the scene arrays and the
-// settings as every pair-kernel backend passes them to pairEntry (DAISY_METHOD_* constant,
-// quadrature level, the 32-bit seed, kEndClearanceRelative). The per-launch fields (pairs,
+// settings as every pair-kernel backend passes them to pairEntry (kernelSettings,
+// radiosity/kernel_inputs.h). The per-launch fields (pairs,
 // results, pairOffset, pairCount, rays) are zero, for the caller to fill.
 shared::PairKernelParams packPairKernelParams(const FormFactorSettings& settings,
                                               const void* patches, const void* nodes,

@@ -1,9 +1,10 @@
-// The cuda backend: uploads the patches and the flat BVH once a build, then evaluates each batch
-// of pairs the one driver sends through buildFromPairBatches (backend/pair_batches.h) in
-// launches of the pair kernel (cuda/pair_kernel.cu) sized by planCudaBatches (batch_plan.h),
-// double-buffered over two streams and pinned host buffers (double_buffer.h): the host packs the
-// next launch's pairs and unpacks the last one's factors while the device runs. Every CUDA call
-// goes through CUDA_CHECK: failures are Expected errors, never aborts.
+// The cuda backend: uploads the patches and the flat BVH once a build, then runs the GPU pass
+// strategy (backend/gpu_pass_plan.h: visibility first, the hybrid far-field pass, the whole
+// kernel for the pairs with a near cell) as the one driver's PairEvaluator. Each pass is
+// launches of the pair kernel of its mode (cuda/pair_kernel.cu) sized by planCudaBatches
+// (batch_plan.h), double-buffered over two streams and pinned host buffers (double_buffer.h):
+// the host packs the next launch's pairs and unpacks the last one's results while the device
+// runs. Every CUDA call goes through CUDA_CHECK: failures are Expected errors, never aborts.
 #include "cuda/cuda_backend.h"
 
 #include <cuda_runtime.h>
@@ -14,13 +15,15 @@
 #include <tuple>
 #include <vector>
 
-#include "backend/pair_batches.h"
+#include "backend/gpu_pass_plan.h"
 #include "core/log.h"
 #include "core/strings.h"
 #include "cuda/cuda_check.h"
 #include "cuda/double_buffer.h"
 #include "cuda/pair_kernel.h"
 #include "geometry/flat_bvh.h"
+#include "radiosity/kernel_inputs.h"
+#include "shared/config.h"
 
 namespace daisy {
 namespace {
@@ -89,7 +92,11 @@ Expected<void> createSlot(Slot& slot, std::size_t launchPairs) {
     return {};
 }
 
-// The facts planCudaBatches needs, read from the current device and the compiled kernel.
+// The passes' kernels, for their occupancy and stack: the plan takes the worst of them.
+constexpr int kPassModes[] = {DAISY_PAIR_MODE_FACTORS, DAISY_PAIR_MODE_VISIBILITY,
+                              DAISY_PAIR_MODE_FAR_FIELD};
+
+// The facts planCudaBatches needs, read from the current device and the compiled kernels.
 Expected<CudaDeviceFacts> deviceFacts(const cudaDeviceProp& properties) {
     CudaDeviceFacts facts;
     facts.name = properties.name;
@@ -99,10 +106,16 @@ Expected<CudaDeviceFacts> deviceFacts(const cudaDeviceProp& properties) {
     facts.freeBytes = freeBytes;
     facts.smCount = properties.multiProcessorCount;
     facts.maxThreadsPerSm = properties.maxThreadsPerMultiProcessor;
-    CUDA_CHECK(pairKernelBlocksPerSm(&facts.blocksPerSm));
-    cudaFuncAttributes attributes{};
-    CUDA_CHECK(pairKernelAttributes(&attributes));
-    facts.stackBytesPerThread = attributes.localSizeBytes;
+    facts.stackBytesPerThread = 0;
+    for (int mode : kPassModes) {
+        int blocks = 0;
+        CUDA_CHECK(pairKernelBlocksPerSm(mode, &blocks));
+        facts.blocksPerSm = mode == kPassModes[0] ? blocks : std::min(facts.blocksPerSm, blocks);
+        cudaFuncAttributes attributes{};
+        CUDA_CHECK(pairKernelAttributes(mode, &attributes));
+        facts.stackBytesPerThread =
+            std::max<uint64_t>(facts.stackBytesPerThread, attributes.localSizeBytes);
+    }
     int device = 0;
     int watchdog = 0;
     CUDA_CHECK(cudaGetDevice(&device));
@@ -110,6 +123,56 @@ Expected<CudaDeviceFacts> deviceFacts(const cudaDeviceProp& properties) {
     facts.watchdog = watchdog != 0;
     return facts;
 }
+
+// One pass of the pair kernel over a batch's pairs: launches of plan.launchPairs through the two
+// slots of the device state.
+class CudaPasses final : public PairKernelPasses {
+public:
+    CudaPasses(int device, const CudaBatchPlan& plan, DeviceState& state,
+               const PairKernelParams& params)
+        : device_(device), plan_(plan), state_(state), params_(params) {}
+
+    Expected<void> runPass(std::span<const PairIndex> pairs, int mode, int rays,
+                           std::span<PairFactors> out) override {
+        // The current device is per host thread, and the driver may call from another one.
+        CUDA_CHECK(cudaSetDevice(device_));
+        const auto submit = [&](int s, std::size_t chunk) -> Expected<void> {
+            const ChunkRange range = chunkRange(chunk, plan_.launchPairs, pairs.size());
+            Slot& slot = state_.slots[s];
+            std::memcpy(slot.hostPairs, pairs.data() + range.first,
+                        range.count * sizeof(PairIndex));
+            CUDA_CHECK(cudaMemcpyAsync(slot.devicePairs, slot.hostPairs,
+                                       range.count * sizeof(PairIndex), cudaMemcpyHostToDevice,
+                                       slot.stream));
+            PairKernelParams launch = params_;
+            launch.pairs = address(slot.devicePairs);
+            launch.results = address(slot.deviceResults);
+            launch.pairOffset = 0;
+            launch.pairCount = uint32_t(range.count);
+            launch.rays = rays;
+            CUDA_CHECK(launchPairKernel(launch, mode, slot.stream));
+            CUDA_CHECK(cudaMemcpyAsync(slot.hostResults, slot.deviceResults,
+                                       range.count * sizeof(PairFactors), cudaMemcpyDeviceToHost,
+                                       slot.stream));
+            return {};
+        };
+        const auto finish = [&](int s, std::size_t chunk) -> Expected<void> {
+            const ChunkRange range = chunkRange(chunk, plan_.launchPairs, pairs.size());
+            Slot& slot = state_.slots[s];
+            CUDA_CHECK(cudaStreamSynchronize(slot.stream));
+            std::memcpy(out.data() + range.first, slot.hostResults,
+                        range.count * sizeof(PairFactors));
+            return {};
+        };
+        return runDoubleBuffered(chunkCount(pairs.size(), plan_.launchPairs), submit, finish);
+    }
+
+private:
+    int device_;
+    const CudaBatchPlan& plan_;
+    DeviceState& state_;
+    PairKernelParams params_;
+};
 
 class CudaBackend final : public Backend {
 public:
@@ -129,10 +192,8 @@ private:
 
 Expected<FormFactorResult> CudaBackend::buildFormFactors(const PatchMesh& mesh,
                                                          const FormFactorSettings& settings) {
-    if (settings.method == FormFactorMethod::Stochastic) {
-        // The driver refuses it (naming the backend) before it evaluates anything.
-        return buildFromPairBatches(mesh, settings, "cuda", 1, PairKernelBatch{});
-    }
+    Expected<void> pairMethod = checkPairMethod(settings, name());
+    if (!pairMethod) return pairMethod.error();
     CUDA_CHECK(cudaSetDevice(device_));
     const std::vector<shared::PatchGeometry> patches = kernelPatches(mesh);
     auto built = buildFlatBvh(mesh);
@@ -171,41 +232,11 @@ Expected<FormFactorResult> CudaBackend::buildFormFactors(const PatchMesh& mesh,
     const PairKernelParams params =
         packPairKernelParams(settings, state.patches, state.nodes, state.triangles);
 
-    const PairKernelBatch evaluate = [&](std::span<const PairIndex> pairs, int rays,
-                                         std::span<PairFactors> out) -> Expected<void> {
-        // The current device is per host thread, and the driver may call from another one.
-        CUDA_CHECK(cudaSetDevice(device_));
-        const auto submit = [&](int s, std::size_t chunk) -> Expected<void> {
-            const ChunkRange range = chunkRange(chunk, plan.launchPairs, pairs.size());
-            Slot& slot = state.slots[s];
-            std::memcpy(slot.hostPairs, pairs.data() + range.first,
-                        range.count * sizeof(PairIndex));
-            CUDA_CHECK(cudaMemcpyAsync(slot.devicePairs, slot.hostPairs,
-                                       range.count * sizeof(PairIndex), cudaMemcpyHostToDevice,
-                                       slot.stream));
-            PairKernelParams launch = params;
-            launch.pairs = address(slot.devicePairs);
-            launch.results = address(slot.deviceResults);
-            launch.pairOffset = 0;
-            launch.pairCount = uint32_t(range.count);
-            launch.rays = rays;
-            CUDA_CHECK(launchPairKernel(launch, slot.stream));
-            CUDA_CHECK(cudaMemcpyAsync(slot.hostResults, slot.deviceResults,
-                                       range.count * sizeof(PairFactors), cudaMemcpyDeviceToHost,
-                                       slot.stream));
-            return {};
-        };
-        const auto finish = [&](int s, std::size_t chunk) -> Expected<void> {
-            const ChunkRange range = chunkRange(chunk, plan.launchPairs, pairs.size());
-            Slot& slot = state.slots[s];
-            CUDA_CHECK(cudaStreamSynchronize(slot.stream));
-            std::memcpy(out.data() + range.first, slot.hostResults,
-                        range.count * sizeof(PairFactors));
-            return {};
-        };
-        return runDoubleBuffered(chunkCount(pairs.size(), plan.launchPairs), submit, finish);
-    };
-    return buildFromPairBatches(mesh, settings, "cuda", plan.batchPairs, evaluate);
+    CudaPasses passes(device_, plan, state, params);
+    GpuPassEvaluator evaluator("cuda", plan.batchPairs, params.method, passes);
+    auto result = computeFormFactors(mesh, settings, evaluator);
+    logVerbose(evaluator.summary());
+    return result;
 }
 
 // The devices the runtime sees, or why there are none (one line).
@@ -270,7 +301,8 @@ Expected<std::unique_ptr<Backend>> makeCudaBackend(const BackendOptions& options
     }
     CUDA_CHECK(cudaSetDevice(*picked));
     cudaFuncAttributes attributes{};
-    CUDA_CHECK(pairKernelAttributes(&attributes));  // no kernel image for this GPU fails here
+    // No kernel image for this GPU fails here.
+    CUDA_CHECK(pairKernelAttributes(DAISY_PAIR_MODE_FACTORS, &attributes));
     logVerbose(concat("cuda: device ", *picked, " '", properties.name, "' (sm_", properties.major,
                       properties.minor, ", ", properties.multiProcessorCount, " SMs, ",
                       formatBytes(double(properties.totalGlobalMem)), "), pair kernel ",

@@ -13,6 +13,12 @@
 // zeros (pairs found fully hidden) are dropped at the end. Every value is a pure function of
 // (i, j, settings), so F is bit-identical for any thread count.
 //
+// Backends: every one hands the driver a PairEvaluator (radiosity/pair_evaluator.h) that returns
+// F_ij and F_ji of a batch of pairs; the kernels' inputs are radiosity/kernel_inputs.h. The
+// driver's files, by concern: form_factors.cpp (these entry points), form_factors_candidates.cpp,
+// form_factors_culling.cpp, form_factors_cost_model.cpp and form_factors_pair_loop.cpp
+// (docs/formfactors.md, "Where the code is").
+//
 // Visibility V_ij: K shadow segments between stratified points (shared/sampling.h), any-hit.
 // Skipped when it cannot change the answer: facing-away pairs are 0 without rays; pairs whose
 // shaft (conv(i u j)) nothing else enters get V = 1, and pairs whose shaft one solid face crosses
@@ -52,7 +58,7 @@ struct FormFactorSettings {
     uint64_t maxMemoryBytes = 0;  // refuse a build needing more; 0 = no limit
     bool shaftCulling = true;  // off only to measure what it saves
     // With shaft culling: per cluster pair and per refinement step, cull only where the measured
-    // cost of the shafts is below that of the rays they could save (issue 18); off = always
+    // cost of the shafts is below that of the rays they could save; off = always
     // cull, as before the cost model (benchmarks only).
     bool costModel = true;
     bool progress = true;  // progress line on a terminal (core/progress.h decides if shown)
@@ -126,9 +132,15 @@ Expected<FormFactorResult> computeFormFactors(const PatchMesh& mesh,
                                               const FormFactorSettings& settings,
                                               const RayCaster& rays);
 // The same driver over any backend's pair evaluation (riemann, nusselt and hybrid; stochastic
-// is refused with a message naming the backend).
+// is refused with a message naming the backend). The driver stores each pair's F_ij from the
+// evaluator and derives F_ji = F_ij A_i / A_j from the mesh's areas.
 Expected<FormFactorResult> computeFormFactors(const PatchMesh& mesh,
                                               const FormFactorSettings& settings,
                                               PairEvaluator& evaluator);
+
+// The error computeFormFactors(..., evaluator) returns for a method that is not a pair method
+// (stochastic: its rays are per patch), naming `backend`; so a backend can refuse before it
+// uploads anything. Success for riemann, nusselt and hybrid.
+Expected<void> checkPairMethod(const FormFactorSettings& settings, const std::string& backend);
 
 }  // namespace daisy

@@ -369,19 +369,17 @@ std::vector<FarFieldPatch> farFieldPatches(std::span<const PatchGeometry> geomet
 
 void candidateFactorsCpu(int method, int level, std::span<const PatchGeometry> geometry,
                          std::span<const FarFieldPatch> patches, std::span<const PairIndex> pairs,
-                         std::span<float> fij, FarFieldScratch& scratch) {
+                         std::span<shared::PairFactors> out, FarFieldScratch& scratch) {
     if (method != DAISY_METHOD_HYBRID) {
-        for (std::size_t k = 0; k < pairs.size(); ++k) {
-            const float f =
-                shared::pairFactors(method, level, geometry[pairs[k].i], geometry[pairs[k].j]).fij;
-            fij[k] = f > 0.0f ? f : 0.0f;
-        }
-        return;
+        for (std::size_t k = 0; k < pairs.size(); ++k)
+            out[k] = shared::pairFactors(method, level, geometry[pairs[k].i], geometry[pairs[k].j]);
+    } else {
+        hybridPairFactors(level, geometry, patches, pairs, false, out, scratch);
     }
-    scratch.factors.resize(pairs.size());
-    hybridPairFactors(level, geometry, patches, pairs, false, scratch.factors, scratch);
-    for (std::size_t k = 0; k < pairs.size(); ++k)
-        fij[k] = scratch.factors[k].fij > 0.0f ? scratch.factors[k].fij : 0.0f;
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        out[k].fij = out[k].fij > 0.0f ? out[k].fij : 0.0f;
+        out[k].fji = out[k].fji > 0.0f ? out[k].fji : 0.0f;
+    }
 }
 
 }  // namespace daisy

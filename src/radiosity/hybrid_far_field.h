@@ -1,5 +1,5 @@
 #pragma once
-// The cpu backend's unoccluded pair factors (issue 18): shared::pairFactors (shared/formfactor.h)
+// The cpu backend's unoccluded pair factors: shared::pairFactors (shared/formfactor.h)
 // with the hybrid method's commonest cases evaluated four points at a time across pairs. When no
 // quadrature cell of i's clipped piece is near j (each is far, ratio >= DAISY_FF_FAR_RATIO: its
 // centroid, or in the middle band from DAISY_FF_MID_RATIO: the three-point rule; a root that far
@@ -35,7 +35,6 @@ struct FarFieldScratch {
     std::vector<float> values;  // per point: the point-to-triangle factor
     std::vector<Cell> cells;
     std::vector<Pair> pairs;
-    std::vector<shared::PairFactors> factors;
 };
 
 // What the far-field planner needs of a whole patch, computed once by the shared kernel's own
@@ -67,12 +66,12 @@ shared::PairFactors pairFactorsCpu(int method, int level, const shared::PatchGeo
 shared::PairFactors candidatePairFactorsCpu(int method, int level, const shared::PatchGeometry& i,
                                             const shared::PatchGeometry& j);
 
-// fij[k] = max(0, candidatePairFactorsCpu(method, level, geometry[pairs[k].i],
-// geometry[pairs[k].j]).fij) for every k, the far cells of all the pairs evaluated together.
-// patches = farFieldPatches(geometry); fij.size() >= pairs.size().
+// out[k] = candidatePairFactorsCpu(method, level, geometry[pairs[k].i], geometry[pairs[k].j])
+// with both entries clamped to >= 0, for every k, the far cells of all the pairs evaluated
+// together. patches = farFieldPatches(geometry); out.size() >= pairs.size().
 void candidateFactorsCpu(int method, int level, std::span<const shared::PatchGeometry> geometry,
                          std::span<const FarFieldPatch> patches,
-                         std::span<const shared::PairIndex> pairs, std::span<float> fij,
-                         FarFieldScratch& scratch);
+                         std::span<const shared::PairIndex> pairs,
+                         std::span<shared::PairFactors> out, FarFieldScratch& scratch);
 
 }  // namespace daisy

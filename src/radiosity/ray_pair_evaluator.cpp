@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <vector>
 
-#include "radiosity/form_factors_internal.h"
 #include "radiosity/hybrid_far_field.h"
+#include "radiosity/kernel_inputs.h"
 #include "radiosity/visibility_samples.h"
 #include "shared/formfactor.h"
 #include "shared/rng.h"
@@ -17,6 +17,7 @@
 namespace daisy {
 namespace {
 
+using shared::PairFactors;
 using shared::PairIndex;
 using shared::PatchGeometry;
 
@@ -30,7 +31,7 @@ struct Scratch {
     std::vector<uint8_t> blocked;
     std::vector<float> weights;  // each segment's kernel weight
     std::vector<PairIndex> openPairs;  // traced pairs some segment reaches
-    std::vector<float> openFactors;  // their unoccluded factors
+    std::vector<PairFactors> openFactors;  // their unoccluded factors
     FarFieldScratch farField;
 };
 
@@ -38,18 +39,18 @@ class RayPairEvaluator final : public PairEvaluator {
 public:
     RayPairEvaluator(const PatchMesh& mesh, const FormFactorSettings& settings,
                      const RayCaster& rays)
-        : geometry_(detail::kernelGeometry(mesh)),
+        : geometry_(kernelPatches(mesh)),
           farField_(farFieldPatches(geometry_)),
           rays_(rays),
-          method_(detail::methodConstant(settings.method)),
+          method_(kernelMethod(settings.method)),
           level_(settings.quadratureLevel),
-          seed_(detail::seed32(settings.seed)) {}
+          seed_(kernelSeed(settings.seed)) {}
 
     std::string name() const override { return "cpu"; }
     std::size_t batchPairs() const override { return kBatchPairs; }
 
     Expected<void> evaluate(std::span<const PairIndex> pairs, int rays,
-                            std::span<float> fij) override {
+                            std::span<PairFactors> out) override {
         const std::size_t grain =
             std::max<std::size_t>(1, kTaskSegments / std::size_t(std::max(rays, 1)));
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pairs.size(), std::min(grain, 256ul)),
@@ -58,10 +59,10 @@ public:
                                   const std::size_t end = std::min(range.end(), k + grain);
                                   if (rays == 0) {
                                       candidateFactorsCpu(method_, level_, geometry_, farField_,
-                                                          pairs.subspan(k, end - k), fij.subspan(k),
+                                                          pairs.subspan(k, end - k), out.subspan(k),
                                                           scratch_.local().farField);
                                   } else {
-                                      trace(pairs.subspan(k, end - k), rays, fij.subspan(k));
+                                      trace(pairs.subspan(k, end - k), rays, out.subspan(k));
                                   }
                               }
                           });
@@ -69,7 +70,7 @@ public:
     }
 
 private:
-    void trace(std::span<const PairIndex> pairs, int k, std::span<float> fij) const {
+    void trace(std::span<const PairIndex> pairs, int k, std::span<PairFactors> out) const {
         Scratch& scratch = scratch_.local();
         scratch.segments.resize(pairs.size() * std::size_t(k));
         scratch.blocked.resize(scratch.segments.size());
@@ -108,9 +109,13 @@ private:
                     ++open;
                 }
             }
-            fij[p] = open > 0 ? scratch.openFactors[next++] *
-                    shared::kernelWeightedVisibility(seen, total, open, k)
-                              : 0.0f;
+            if (open == 0) {
+                out[p] = PairFactors{0.0f, 0.0f};
+                continue;
+            }
+            const float v = shared::kernelWeightedVisibility(seen, total, open, k);
+            const PairFactors& f = scratch.openFactors[next++];
+            out[p] = PairFactors{f.fij * v, f.fji * v};
         }
     }
 

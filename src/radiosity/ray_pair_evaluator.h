@@ -1,8 +1,9 @@
 #pragma once
 // The cpu backend's pair evaluation for the form-factor driver: the CPU kernel
 // (shared/formfactor.h) and a RayCaster's segment queries (Embree in the cpu backend), one TBB
-// task per chunk of pairs. F_ij = float(double(factor) * open / K), the factor computed only
-// for pairs some ray reaches.
+// task per chunk of pairs. Both entries are the unoccluded factors (radiosity/hybrid_far_field.h,
+// bit-identical to the shared kernel) times V (shared::kernelWeightedVisibility) in float, the
+// factors computed only for pairs some segment reaches.
 #include <memory>
 
 #include "geometry/patch_mesh.h"

@@ -1,5 +1,7 @@
 // The stochastic method: closest-hit rays per patch, then the reciprocal average of the two
 // estimates of every pair (docs/formfactors.md).
+#include "radiosity/stochastic_form_factors.h"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -8,7 +10,7 @@
 #include "core/progress.h"
 #include "core/strings.h"
 #include "core/timer.h"
-#include "radiosity/form_factors_internal.h"
+#include "radiosity/kernel_inputs.h"
 #include "shared/config.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
@@ -43,8 +45,8 @@ Expected<FormFactorResult> computeStochastic(const PatchMesh& mesh,
                             " rays each, more than --max-memory ",
                             formatBytes(static_cast<double>(settings.maxMemoryBytes)))};
     }
-    const std::vector<PatchGeometry> geometry = kernelGeometry(mesh);
-    const uint32_t seed = seed32(settings.seed);
+    const std::vector<PatchGeometry> geometry = kernelPatches(mesh);
+    const uint32_t seed = kernelSeed(settings.seed);
 
     // Raw estimate, built in row chunks (each chunk's rows in order), then concatenated.
     constexpr uint32_t kRowsPerChunk = 32;

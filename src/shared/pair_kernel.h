@@ -1,7 +1,9 @@
 // The per-pair kernel of the pair-kernel backends (reference, vulkan, cuda; DESIGN.md section 8):
 // both entries of one unordered pair {i, j}, unoccluded factor times visibility. The host driver
-// (backend/pair_batches.h) enumerates the pairs and assembles F; a GPU thread or CPU task calls
-// pairEntry once per pair.
+// (radiosity/form_factors.h) enumerates the pairs and assembles F from what a backend's
+// PairEvaluator returns (radiosity/pair_evaluator.h, inputs radiosity/kernel_inputs.h): the
+// reference backend calls pairEntry once per pair; the GPU backends run pairEntryInMode in the
+// passes of backend/gpu_pass_plan.h.
 #ifndef DAISY_SHARED_PAIR_KERNEL_H
 #define DAISY_SHARED_PAIR_KERNEL_H
 
@@ -64,6 +66,29 @@ DAISY_HD PairFactors pairEntryFarField(DAISY_IN(PatchGeometry) gi, DAISY_IN(Patc
     if (f.fij != DAISY_FF_NEEDS_NEAR_CELLS) {
         f.fij = max(0.0f, f.fij);
         f.fji = max(0.0f, f.fji);
+    }
+    return f;
+}
+
+// One pass of the GPU pass strategy (backend/gpu_pass_plan.h) on the pair (i, j), by `mode`
+// (DAISY_PAIR_MODE_*, config.h): VISIBILITY gives V_ij (pairEntryVisibility, `rays` >= 1) in
+// both entries; FAR_FIELD gives pairEntryFarField (hybrid only); FACTORS gives pairEntry with
+// rays = 0, the unoccluded factors. The arguments are pairEntry's. What one GPU thread does;
+// a caller whose mode is a compile-time constant gets only that branch's code.
+DAISY_HD PairFactors pairEntryInMode(int mode, uint i, uint j, DAISY_IN(PatchGeometry) gi,
+                                     DAISY_IN(PatchGeometry) gj, int method, int level, int rays,
+                                     uint seed, float clearanceRelative, BvhNodeBuffer nodes,
+                                     BvhTriangleBuffer triangles) {
+    PairFactors f;
+    if (mode == DAISY_PAIR_MODE_VISIBILITY) {
+        float v =
+            pairEntryVisibility(i, j, gi, gj, rays, seed, clearanceRelative, nodes, triangles);
+        f.fij = v;
+        f.fji = v;
+    } else if (mode == DAISY_PAIR_MODE_FAR_FIELD) {
+        f = pairEntryFarField(gi, gj, level);
+    } else {
+        f = pairEntry(i, j, gi, gj, method, level, 0, seed, clearanceRelative, nodes, triangles);
     }
     return f;
 }

@@ -1,13 +1,11 @@
-// The vulkan backend: uploads the patches and the flat BVH once, then for each batch of pairs
-// the one driver sends through buildFromPairBatches (backend/pair_batches.h: only the pairs no
-// culling decided; clear-shaft pairs without rays) uploads the pairs, runs
+// The vulkan backend: uploads the patches and the flat BVH once, then runs the GPU pass strategy
+// (backend/gpu_pass_plan.h: V first and the quadrature only for the pairs some segment gets
+// through; the hybrid quadrature without the adaptive refinement, then with it for the pairs that
+// have a near cell) as the one driver's PairEvaluator. Each pass uploads its pairs, runs
 // shaders/form_factors.comp.glsl over them in dispatches short enough for a display watchdog, and
-// downloads the factors: pairs with rays in two passes, V first and then the quadrature for the
-// pairs some segment gets through, each pass a pipeline specialised to the method, level and mode
-// (docs/backends.md); the hybrid quadrature itself in two, without the adaptive refinement and
-// then with it for the pairs that have a near cell. Every buffer stays within the device's
-// maxStorageBufferRange (128 MiB on lavapipe): batches are sized to it, and a scene whose patch
-// or BVH arrays exceed it is refused.
+// downloads the results, each pass a pipeline specialised to the method, level and mode
+// (docs/backends.md). Every buffer stays within the device's maxStorageBufferRange (128 MiB on
+// lavapipe): batches are sized to it, and a scene whose patch or BVH arrays exceed it is refused.
 #include "vulkan/vulkan_backend.h"
 
 #include <algorithm>
@@ -16,14 +14,13 @@
 #include <tuple>
 #include <vector>
 
-#include "backend/pair_batches.h"
+#include "backend/gpu_pass_plan.h"
 #include "core/log.h"
 #include "core/progress.h"
 #include "core/strings.h"
 #include "core/timer.h"
 #include "geometry/flat_bvh.h"
-#include "radiosity/form_factors_internal.h"
-#include "radiosity/pair_evaluator.h"
+#include "radiosity/kernel_inputs.h"
 #include "shared/config.h"
 #include "shared/gpu_types.h"
 #include "vulkan/buffers.h"
@@ -117,11 +114,8 @@ Expected<VulkanBuffer> VulkanBackend::uploadArray(const void* data, std::size_t 
 
 Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh,
                                                            const FormFactorSettings& settings) {
-    if (settings.method == FormFactorMethod::Stochastic) {
-        return Error{
-            "--method stochastic is not a pair method: the vulkan backend computes "
-            "riemann, nusselt and hybrid (use --backend cpu for stochastic)"};
-    }
+    Expected<void> pairMethod = checkPairMethod(settings, name());
+    if (!pairMethod) return pairMethod.error();
     const std::vector<shared::PatchGeometry> patches = kernelPatches(mesh);
     auto built = buildFlatBvh(mesh);
     if (!built) return built.error();
@@ -156,9 +150,7 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
         DAISY_PAIR_WORKGROUP_SIZE;
     uint64_t dispatchPairs = limits_.dispatchPairs
         ? limits_.dispatchPairs
-        : std::max<uint64_t>(DAISY_PAIR_WORKGROUP_SIZE,
-                             kDispatchWork / pairWork(settings) / DAISY_PAIR_WORKGROUP_SIZE *
-                                 DAISY_PAIR_WORKGROUP_SIZE);
+        : launchPairsForWork(kDispatchWork, pairWork(settings), DAISY_PAIR_WORKGROUP_SIZE);
     dispatchPairs = std::min(dispatchPairs, groupLimit);
 
     for (const std::size_t bytes :
@@ -179,120 +171,66 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
     params.triangles = owned[2].address;
     params.pairs = pairBuffer.address;
     params.results = resultBuffer.address;
-    params.method = detail::methodConstant(settings.method);
-    params.level = settings.quadratureLevel;
-    params.seed = detail::seed32(settings.seed);  // as the cpu and reference backends fold it
-    params.clearance = kEndClearanceRelative;
+    const KernelSettings kernel = kernelSettings(settings);  // as every backend passes them
+    params.method = kernel.method;
+    params.level = kernel.level;
+    params.seed = kernel.seed;
+    params.clearance = kernel.clearanceRelative;
 
-    // Runs the kernel in `mode` over pairs (at most batchPairs) into out.
-    const auto run = [&](std::span<const PairIndex> pairs, int mode,
-                         std::span<PairFactors> out) -> Expected<void> {
-        auto made = pipeline(params.method, params.level, mode);
-        if (!made) return made.error();
-        const ComputePipeline& kernel = **made;
-        auto uploaded = upload(context_, pairBuffer, pairs.data(), pairs.size_bytes());
-        if (!uploaded) return uploaded;
-        for (std::size_t first = 0; first < pairs.size(); first += dispatchPairs) {
-            params.pairOffset = uint32_t(first);
-            params.pairCount = uint32_t(std::min<uint64_t>(dispatchPairs, pairs.size() - first));
-            const uint32_t groups =
-                (params.pairCount + DAISY_PAIR_WORKGROUP_SIZE - 1) / DAISY_PAIR_WORKGROUP_SIZE;
-            // One submission per dispatch: a watchdog sees one short job at a time.
-            auto ran = submitAndWait(context_, [&](VkCommandBuffer commands) {
-                vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.pipeline);
-                vkCmdPushConstants(commands, kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
-                                   sizeof params, &params);
-                vkCmdDispatch(commands, groups, 1, 1);
-                VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-                barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-                barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
-                vkCmdPipelineBarrier(commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                                     VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0,
-                                     1, &barrier, 0, nullptr, 0, nullptr);
-            });
-            if (!ran) return ran;
-        }
-        return download(context_, resultBuffer, out.data(), out.size_bytes());
-    };
-    // The unoccluded factors of pairs into out. Hybrid: every pair through the pipeline without
-    // the refinement first (DAISY_PAIR_MODE_FAR_FIELD), then those it marks as having a near cell
-    // through the whole kernel; the same factors as the whole kernel on every pair, bit for bit
-    // (shared/pair_kernel.h, pairEntryFarField).
-    std::vector<PairIndex> near;
-    std::vector<uint32_t> nearSlot;
-    std::vector<PairFactors> nearFactors;
-    uint64_t nearPairs = 0;
-    const auto runFactors = [&](std::span<const PairIndex> pairs,
-                                std::span<PairFactors> out) -> Expected<void> {
-        if (params.method != DAISY_METHOD_HYBRID) return run(pairs, DAISY_PAIR_MODE_FACTORS, out);
-        if (auto ran = run(pairs, DAISY_PAIR_MODE_FAR_FIELD, out); !ran) return ran;
-        near.clear();
-        nearSlot.clear();
-        for (std::size_t k = 0; k < pairs.size(); ++k) {
-            if (out[k].fij == DAISY_FF_NEEDS_NEAR_CELLS) {
-                near.push_back(pairs[k]);
-                nearSlot.push_back(uint32_t(k));
+    // One pass: the kernel specialised to `mode` over pairs (at most batchPairs) into out.
+    struct Passes final : PairKernelPasses {
+        VulkanBackend& backend;
+        PairKernelParams& params;
+        const VulkanBuffer& pairBuffer;
+        const VulkanBuffer& resultBuffer;
+        uint64_t dispatchPairs;
+
+        Passes(VulkanBackend& b, PairKernelParams& p, const VulkanBuffer& pairs,
+               const VulkanBuffer& results, uint64_t dispatch)
+            : backend(b),
+              params(p),
+              pairBuffer(pairs),
+              resultBuffer(results),
+              dispatchPairs(dispatch) {}
+
+        Expected<void> runPass(std::span<const PairIndex> pairs, int mode, int rays,
+                               std::span<PairFactors> out) override {
+            const VulkanContext& context = backend.context_;
+            auto made = backend.pipeline(params.method, params.level, mode);
+            if (!made) return made.error();
+            const ComputePipeline& kernel = **made;
+            params.rays = rays;
+            auto uploaded = upload(context, pairBuffer, pairs.data(), pairs.size_bytes());
+            if (!uploaded) return uploaded;
+            for (std::size_t first = 0; first < pairs.size(); first += dispatchPairs) {
+                params.pairOffset = uint32_t(first);
+                params.pairCount =
+                    uint32_t(std::min<uint64_t>(dispatchPairs, pairs.size() - first));
+                const uint32_t groups =
+                    (params.pairCount + DAISY_PAIR_WORKGROUP_SIZE - 1) / DAISY_PAIR_WORKGROUP_SIZE;
+                // One submission per dispatch: a watchdog sees one short job at a time.
+                auto ran = submitAndWait(context, [&](VkCommandBuffer commands) {
+                    vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, kernel.pipeline);
+                    vkCmdPushConstants(commands, kernel.layout, VK_SHADER_STAGE_COMPUTE_BIT, 0,
+                                       sizeof params, &params);
+                    vkCmdDispatch(commands, groups, 1, 1);
+                    VkMemoryBarrier barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+                    barrier.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+                    barrier.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT;
+                    vkCmdPipelineBarrier(
+                        commands, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                        VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &barrier,
+                        0, nullptr, 0, nullptr);
+                });
+                if (!ran) return ran;
             }
+            return download(context, resultBuffer, out.data(), out.size_bytes());
         }
-        nearPairs += near.size();
-        if (near.empty()) return {};
-        nearFactors.resize(near.size());
-        if (auto ran = run(near, DAISY_PAIR_MODE_FACTORS, nearFactors); !ran) return ran;
-        for (std::size_t k = 0; k < near.size(); ++k)
-            out[nearSlot[k]] = nearFactors[k];
-        return {};
     };
-    // Pairs with rays: V_ij first, then the quadrature only for the pairs some ray reaches, and
-    // F = factor * V in float, as pairEntry rounds it (shared/pair_kernel.h).
-    std::vector<PairFactors> visibility, factors;
-    std::vector<PairIndex> open;
-    std::vector<uint32_t> openSlot;
-    double factorSeconds = 0, visibilitySeconds = 0;
-    uint64_t tracedPairs = 0, openPairs = 0, factorPairs = 0;
-    const PairKernelBatch evaluate = [&](std::span<const PairIndex> pairs, int rays,
-                                         std::span<PairFactors> out) -> Expected<void> {
-        params.rays = rays;
-        if (rays == 0) {
-            const auto start = Clock::now();
-            if (auto ran = runFactors(pairs, out); !ran) return ran;
-            factorPairs += pairs.size();
-            factorSeconds += secondsSince(start);
-            return {};
-        }
-        auto start = Clock::now();
-        visibility.resize(pairs.size());
-        if (auto ran = run(pairs, DAISY_PAIR_MODE_VISIBILITY, visibility); !ran) return ran;
-        visibilitySeconds += secondsSince(start);
-        open.clear();
-        openSlot.clear();
-        for (std::size_t k = 0; k < pairs.size(); ++k) {
-            out[k] = PairFactors{0.0f, 0.0f};
-            if (visibility[k].fij > 0.0f) {
-                open.push_back(pairs[k]);
-                openSlot.push_back(uint32_t(k));
-            }
-        }
-        tracedPairs += pairs.size();
-        openPairs += open.size();
-        if (open.empty()) return {};
-        start = Clock::now();
-        factors.resize(open.size());
-        if (auto ran = runFactors(open, factors); !ran) return ran;
-        factorPairs += open.size();
-        for (std::size_t k = 0; k < open.size(); ++k) {
-            const float v = visibility[openSlot[k]].fij;
-            out[openSlot[k]] = PairFactors{factors[k].fij * v, factors[k].fji * v};
-        }
-        factorSeconds += secondsSince(start);
-        return {};
-    };
-    auto result = buildFromPairBatches(mesh, settings, "vulkan", batchPairs, evaluate);
-    logVerbose(concat("vulkan: ", formatCount(tracedPairs), " traced pairs' visibility in ",
-                      formatDuration(visibilitySeconds), ", the factors of ",
-                      formatCount(openPairs), " of them and of every clear pair in ",
-                      formatDuration(factorSeconds), " (", formatCount(nearPairs), " of those ",
-                      formatCount(factorPairs), " with a near cell, whose factors are the whole ",
-                      "hybrid kernel's; the others' without its refinement)"));
+    Passes passes(*this, params, pairBuffer, resultBuffer, dispatchPairs);
+    GpuPassEvaluator evaluator("vulkan", batchPairs, params.method, passes);
+    auto result = computeFormFactors(mesh, settings, evaluator);
+    logVerbose(evaluator.summary());
     release();
     return result;
 }

@@ -1,4 +1,4 @@
-// The cuda backend's host-side logic, tested without a device (issue 17 item 5): the batch plan
+// The cuda backend's host-side logic, tested without a device: the batch plan
 // (cuda/batch_plan.h), the double-buffered chunk schedule (cuda/double_buffer.h) and the decoded
 // error text of CUDA_CHECK (cuda/cuda_error.h). Oracles: the plan's documented formulas worked by
 // hand for an H200-like device (132 SMs, 2048 threads an SM; a kernel of 128 registers a thread

@@ -1,4 +1,4 @@
-// The cuda backend (issue 17). Without a device: the missing-device and --device errors are one
+// The cuda backend. Without a device: the missing-device and --device errors are one
 // clear line. On an NVIDIA device (tools/gpu_check.sh, DAISY_REQUIRE_CUDA=1): cuda against the
 // reference backend entry by entry, as tests/vulkan/vulkan_backend_test.cpp checks vulkan: both
 // run the shared pair kernel on the same pairs with the same seed, so entries agree to float

@@ -1,8 +1,10 @@
 // The CUDA kernel's per-thread code (evaluatePairSlot, cuda/pair_slot.h) and the host's argument
 // packing (packPairKernelParams, cuda/batch_plan.h), run on the CPU over host arrays through the
-// cuda backend's launch schedule (runDoubleBuffered and chunkRange, two slots of a few pairs):
-// the matrix must equal the reference backend's bit for bit, since both evaluate the shared
-// pairEntry on the same pairs and samples with the same compiler. What it cannot check without a
+// cuda backend's launch schedule (runDoubleBuffered and chunkRange, two slots of a few pairs) and
+// the shared GPU pass strategy (backend/gpu_pass_plan.h: visibility, far field, near cells): the
+// matrix must equal the reference backend's bit for bit, since both evaluate the shared kernel
+// (pairEntry, or its passes, equal to it by construction) on the same pairs and samples with
+// the same compiler. What it cannot check without a
 // device is only the CUDA calls themselves (copies, launches, streams).
 #include <gtest/gtest.h>
 
@@ -10,11 +12,13 @@
 #include <vector>
 
 #include "backend/backend.h"
-#include "backend/pair_batches.h"
+#include "backend/gpu_pass_plan.h"
 #include "cuda/batch_plan.h"
 #include "cuda/double_buffer.h"
 #include "cuda/pair_slot.h"
 #include "geometry/flat_bvh.h"
+#include "radiosity/kernel_inputs.h"
+#include "shared/config.h"
 #include "verify/scenes.h"
 
 namespace daisy {
@@ -24,45 +28,67 @@ using shared::PairFactors;
 using shared::PairIndex;
 using shared::PairKernelParams;
 
-// F built as the cuda backend builds it, with the "device" being this CPU: launches of
-// launchPairs pairs in two slots, each "launch" run at submit, unpacked at finish.
+// The cuda backend's passes with the "device" being this CPU: launches of launchPairs pairs in
+// two slots, each "launch" run at submit, unpacked at finish.
+class HostPasses final : public PairKernelPasses {
+public:
+    HostPasses(const PairKernelParams& params, std::size_t launchPairs)
+        : params_(params), launchPairs_(launchPairs) {
+        for (int s = 0; s < 2; ++s) {
+            slotPairs_[s].resize(launchPairs);
+            slotResults_[s].resize(launchPairs);
+        }
+    }
+
+    Expected<void> runPass(std::span<const PairIndex> pairs, int mode, int rays,
+                           std::span<PairFactors> out) override {
+        ++passes[mode];
+        const auto submit = [&](int s, std::size_t chunk) -> Expected<void> {
+            const ChunkRange range = chunkRange(chunk, launchPairs_, pairs.size());
+            std::memcpy(slotPairs_[s].data(), pairs.data() + range.first,
+                        range.count * sizeof(PairIndex));
+            PairKernelParams launch = params_;
+            launch.pairs = reinterpret_cast<uint64_t>(slotPairs_[s].data());
+            launch.results = reinterpret_cast<uint64_t>(slotResults_[s].data());
+            launch.pairCount = uint32_t(range.count);
+            launch.rays = rays;
+            for (uint32_t k = 0; k < launch.pairCount; ++k)
+                evaluatePairSlot(launch, mode, k);
+            return {};
+        };
+        const auto finish = [&](int s, std::size_t chunk) -> Expected<void> {
+            const ChunkRange range = chunkRange(chunk, launchPairs_, pairs.size());
+            std::memcpy(out.data() + range.first, slotResults_[s].data(),
+                        range.count * sizeof(PairFactors));
+            return {};
+        };
+        return runDoubleBuffered(chunkCount(pairs.size(), launchPairs_), submit, finish);
+    }
+
+    int passes[3] = {0, 0, 0};  // passes run, by DAISY_PAIR_MODE_*
+
+private:
+    PairKernelParams params_;
+    std::size_t launchPairs_;
+    std::vector<PairIndex> slotPairs_[2];
+    std::vector<PairFactors> slotResults_[2];
+};
+
+// F built as the cuda backend builds it: the shared GPU pass strategy over HostPasses.
 SparseMatrix buildLikeCuda(const PatchMesh& mesh, const FormFactorSettings& settings,
                            std::size_t launchPairs, std::size_t batchPairs) {
     const std::vector<shared::PatchGeometry> patches = kernelPatches(mesh);
     const FlatBvh bvh = buildFlatBvh(mesh).value();
     const PairKernelParams params =
         packPairKernelParams(settings, patches.data(), bvh.nodes.data(), bvh.triangles.data());
-    std::vector<PairIndex> slotPairs[2];
-    std::vector<PairFactors> slotResults[2];
-    for (int s = 0; s < 2; ++s) {
-        slotPairs[s].resize(launchPairs);
-        slotResults[s].resize(launchPairs);
-    }
-    const PairKernelBatch evaluate = [&](std::span<const PairIndex> pairs, int rays,
-                                         std::span<PairFactors> out) -> Expected<void> {
-        const auto submit = [&](int s, std::size_t chunk) -> Expected<void> {
-            const ChunkRange range = chunkRange(chunk, launchPairs, pairs.size());
-            std::memcpy(slotPairs[s].data(), pairs.data() + range.first,
-                        range.count * sizeof(PairIndex));
-            PairKernelParams launch = params;
-            launch.pairs = reinterpret_cast<uint64_t>(slotPairs[s].data());
-            launch.results = reinterpret_cast<uint64_t>(slotResults[s].data());
-            launch.pairCount = uint32_t(range.count);
-            launch.rays = rays;
-            for (uint32_t k = 0; k < launch.pairCount; ++k)
-                evaluatePairSlot(launch, k);
-            return {};
-        };
-        const auto finish = [&](int s, std::size_t chunk) -> Expected<void> {
-            const ChunkRange range = chunkRange(chunk, launchPairs, pairs.size());
-            std::memcpy(out.data() + range.first, slotResults[s].data(),
-                        range.count * sizeof(PairFactors));
-            return {};
-        };
-        return runDoubleBuffered(chunkCount(pairs.size(), launchPairs), submit, finish);
-    };
-    auto result = buildFromPairBatches(mesh, settings, "cuda", batchPairs, evaluate);
+    HostPasses passes(params, launchPairs);
+    GpuPassEvaluator evaluator("cuda", batchPairs, params.method, passes);
+    auto result = computeFormFactors(mesh, settings, evaluator);
     EXPECT_TRUE(result.ok()) << result.error().message;
+    // Hybrid runs the far-field pass, the others never; rays add the visibility pass.
+    const bool hybrid = settings.method == FormFactorMethod::Hybrid;
+    EXPECT_EQ(passes.passes[DAISY_PAIR_MODE_FAR_FIELD] > 0, hybrid);
+    EXPECT_EQ(passes.passes[DAISY_PAIR_MODE_VISIBILITY] > 0, settings.raysPerPair > 0);
     return result.ok() ? std::move(result->matrix) : SparseMatrix{};
 }
 
@@ -108,7 +134,7 @@ TEST(CudaPairSlot, PairOffsetSelectsTheSlot) {
     params.pairOffset = 1;
     params.pairCount = 2;
     params.rays = 0;
-    evaluatePairSlot(params, 1);  // slot 2: the pair (1, 3)
+    evaluatePairSlot(params, DAISY_PAIR_MODE_FACTORS, 1);  // slot 2: the pair (1, 3)
     EXPECT_EQ(results[0].fij, -1.0f);
     EXPECT_EQ(results[1].fij, -1.0f);
     const PairFactors direct = shared::pairEntry(

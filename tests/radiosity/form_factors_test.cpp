@@ -16,7 +16,7 @@
 #include <random>
 
 #include "backend/embree_ray_caster.h"
-#include "radiosity/form_factors_internal.h"
+#include "radiosity/kernel_inputs.h"
 #include "radiosity/matrix_compare.h"
 #include "radiosity/matrix_transport.h"
 #include "shared/formfactor.h"
@@ -250,7 +250,7 @@ TEST(FormFactors, FacingAwayCountIsThePerPairTestOverEveryPair) {
     verify::addGrid(mesh, {0.2, 0.3, 0.2}, {0.6, 0, 0}, {0, 0.3, 0.5}, 3, 3);  // tilted plate
     verify::addGrid(mesh, {0.2, 0.6, 0.7}, {0.6, 0, 0}, {0, -0.3, -0.5}, 3, 3);  // its back
     const PatchMesh patches = patchesOf(mesh);
-    const std::vector<shared::PatchGeometry> geometry = detail::kernelGeometry(patches);
+    const std::vector<shared::PatchGeometry> geometry = kernelPatches(patches);
     uint64_t facingAway = 0;
     for (std::size_t i = 0; i < geometry.size(); ++i) {
         for (std::size_t j = i + 1; j < geometry.size(); ++j)

@@ -85,17 +85,16 @@ TEST(HybridFarField, BatchOfPairsIsBitIdenticalToTheSharedKernel) {
     }
     FarFieldScratch scratch;
     for (int level : {0, 1, 2}) {
-        std::vector<float> got(pairs.size(), -1.0f);
+        std::vector<shared::PairFactors> got(pairs.size(), shared::PairFactors{-1.0f, -1.0f});
         candidateFactorsCpu(DAISY_METHOD_HYBRID, level, geometry, farFieldPatches(geometry), pairs,
                             got, scratch);
         int positive = 0;
         for (std::size_t k = 0; k < pairs.size(); ++k) {
-            const float want =
-                std::max(0.0f,
-                         shared::pairFactors(DAISY_METHOD_HYBRID, level, geometry[pairs[k].i],
-                                             geometry[pairs[k].j])
-                             .fij);
-            ASSERT_EQ(got[k], want) << "pair " << k << " level " << level;
+            const shared::PairFactors exact = shared::pairFactors(
+                DAISY_METHOD_HYBRID, level, geometry[pairs[k].i], geometry[pairs[k].j]);
+            const float want = std::max(0.0f, exact.fij);
+            ASSERT_EQ(got[k].fij, want) << "pair " << k << " level " << level;
+            ASSERT_EQ(got[k].fji, std::max(0.0f, exact.fji)) << "pair " << k << " level " << level;
             positive += want > 0.0f ? 1 : 0;
         }
         EXPECT_GT(positive, int(pairs.size()) / 4) << level;
