@@ -1,6 +1,6 @@
 // The reference backend (DESIGN.md section 8): the shared pair kernel (shared/pair_kernel.h) run
 // on the CPU over our flat BVH (geometry/flat_bvh.h), one TBB task per chunk of pairs. It is the
-// oracle the GPU backends are checked against: the same source, no Embree, the same driver as
+// oracle the GPU backends are checked against: the same source, no ray caster, the same driver as
 // every backend (radiosity/form_factors.h); with shaftCulling off it traces every candidate.
 // Every entry is a pure function of (pair, settings), so F is the same for any thread count.
 // The stochastic method is refused (buildFromPairBatches): it is not a per-pair kernel.
@@ -12,7 +12,7 @@
 #include "geometry/flat_bvh.h"
 #include "radiosity/form_factors_internal.h"
 #include "radiosity/pair_evaluator.h"
-#include "radiosity/ray_caster.h"
+#include "raycast/ray_caster.h"
 #include "shared/pair_kernel.h"
 
 namespace daisy {

@@ -9,8 +9,8 @@
 #include "image/edge_sampling.h"
 #include "image/pixel_samples.h"
 #include "image/texture_detail.h"
-#include "pipeline/patch_exposure.h"
 #include "pipeline/vertex_radiance.h"
+#include "radiosity/patch_exposure.h"
 
 namespace daisy {
 

@@ -3,7 +3,7 @@
 // section 3): evaluate a batch of unordered pairs, kernel and rays. The driver does everything
 // else for every backend alike: the candidate pass, the decisions that need no rays (facing
 // away, clear shaft, covered, and the cost model that decides whether culling pays), the CSR
-// assembly and the memory checks. The cpu backend evaluates with the CPU kernel and Embree
+// assembly and the memory checks. The cpu backend evaluates with the CPU kernel and rays
 // (radiosity/ray_pair_evaluator.h); reference, vulkan (and cuda next) with the shared pair kernel
 // (shared/pair_kernel.h) through backend/pair_batches.h.
 #include <cstddef>
