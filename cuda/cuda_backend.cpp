@@ -20,7 +20,7 @@
 #include "cuda/cuda_check.h"
 #include "cuda/double_buffer.h"
 #include "cuda/pair_kernel.h"
-#include "geometry/flat_bvh.h"
+#include "raycast/flat_bvh.h"
 
 namespace daisy {
 namespace {

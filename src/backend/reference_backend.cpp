@@ -1,5 +1,5 @@
 // The reference backend (DESIGN.md section 8): the shared pair kernel (shared/pair_kernel.h) run
-// on the CPU over our flat BVH (geometry/flat_bvh.h), one TBB task per chunk of pairs. It is the
+// on the CPU over our flat BVH (raycast/flat_bvh.h), one TBB task per chunk of pairs. It is the
 // oracle the GPU backends are checked against: the same source, no ray caster, the same driver as
 // every backend (radiosity/form_factors.h); with shaftCulling off it traces every candidate.
 // Every entry is a pure function of (pair, settings), so F is the same for any thread count.
@@ -9,9 +9,9 @@
 
 #include "backend/backend.h"
 #include "backend/pair_batches.h"
-#include "geometry/flat_bvh.h"
 #include "radiosity/form_factors_internal.h"
 #include "radiosity/pair_evaluator.h"
+#include "raycast/flat_bvh.h"
 #include "raycast/ray_caster.h"
 #include "shared/pair_kernel.h"
 

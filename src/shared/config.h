@@ -35,7 +35,7 @@
 #define DAISY_FF_MAX_CELLS 128
 
 // Entries of the BVH traversal stack (bvh_traverse.h), one per tree level below the root: the
-// builder (geometry/flat_bvh.cpp) caps the depth at this, so the stack cannot overflow. 64 uints
+// builder (raycast/flat_bvh.cpp) caps the depth at this, so the stack cannot overflow. 64 uints
 // are 256 bytes of local memory per GPU thread.
 #define DAISY_BVH_STACK_SIZE 64
 // Shadow segments are tested for t in (MARGIN, 1 - MARGIN) of their length: the relative end

@@ -11,10 +11,10 @@
 #include <random>
 #include <vector>
 
-#include "geometry/flat_bvh.h"
 #include "geometry/patch_mesh.h"
 #include "radiosity/shaft.h"
 #include "radiosity/visibility_samples.h"
+#include "raycast/flat_bvh.h"
 #include "raycast/ray_caster.h"
 #include "scene/load_scene.h"
 #include "shared/formfactor.h"
@@ -201,7 +201,7 @@ void BM_RayCasterBuild(benchmark::State& state) {
 }
 BENCHMARK(BM_RayCasterBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// The flat BVH of the reference and GPU backends (geometry/flat_bvh.h): build and flatten.
+// The flat BVH of the reference and GPU backends (raycast/flat_bvh.h): build and flatten.
 void BM_FlatBvhBuild(benchmark::State& state) {
     const BenchScene& s = benchScene();
     for (auto _ : state) {

@@ -14,7 +14,7 @@
 #include "cuda/batch_plan.h"
 #include "cuda/double_buffer.h"
 #include "cuda/pair_slot.h"
-#include "geometry/flat_bvh.h"
+#include "raycast/flat_bvh.h"
 #include "verify/scenes.h"
 
 namespace daisy {
