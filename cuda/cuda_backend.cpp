@@ -21,8 +21,8 @@
 #include "cuda/cuda_check.h"
 #include "cuda/double_buffer.h"
 #include "cuda/pair_kernel.h"
-#include "geometry/flat_bvh.h"
 #include "radiosity/kernel_inputs.h"
+#include "raycast/flat_bvh.h"
 #include "shared/config.h"
 
 namespace daisy {

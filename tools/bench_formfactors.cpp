@@ -10,9 +10,9 @@
 #include <cstring>
 #include <string>
 
-#include "backend/embree_ray_caster.h"
 #include "core/strings.h"
 #include "radiosity/form_factors.h"
+#include "raycast/ray_caster.h"
 #include "scene/load_scene.h"
 
 using namespace daisy;
@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "error: %s\n", mesh.error().message.c_str());
         return 2;
     }
-    auto caster = EmbreeRayCaster::create(*mesh, mode);
+    auto caster = makeRayCaster(*mesh, {.packetMode = mode});
     if (!caster) {
         std::fprintf(stderr, "error: %s\n", caster.error().message.c_str());
         return 1;

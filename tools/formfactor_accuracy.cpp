@@ -12,10 +12,10 @@
 #include <string>
 #include <vector>
 
-#include "backend/embree_ray_caster.h"
 #include "core/timer.h"
 #include "radiosity/form_factors.h"
 #include "radiosity/matrix_transport.h"
+#include "raycast/ray_caster.h"
 #include "verify/closed_forms.h"
 #include "verify/scenes.h"
 
@@ -36,7 +36,7 @@ struct Run {
 Run run(const TriangleMesh& triangles, const FormFactorSettings& settings) {
     Run r;
     r.mesh = verify::patchesOf(triangles);
-    auto caster = EmbreeRayCaster::create(r.mesh);
+    auto caster = makeRayCaster(r.mesh);
     const Timer timer;
     auto result = computeFormFactors(r.mesh, settings, **caster);
     r.seconds = timer.seconds();

@@ -1,5 +1,5 @@
 #pragma once
-// Backends build the view-factor matrix (DESIGN.md section 8): `cpu` (Embree rays, TBB threads),
+// Backends build the view-factor matrix (DESIGN.md section 8): `cpu` (CPU rays, TBB threads),
 // `reference` (the shared kernels of src/shared/ on the CPU over our flat BVH: the oracle for the
 // GPU backends), `vulkan` (the same kernels as compute shaders; only in binaries built with
 // DAISY_ENABLE_VULKAN, and only where a Vulkan 1.2 device exists) and `cuda` (the same kernel

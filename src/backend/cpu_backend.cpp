@@ -1,7 +1,8 @@
-// The cpu backend: the form-factor driver (radiosity/form_factors.h) with Embree 3 visibility,
-// 16-ray packets (rtcOccluded16, measured fastest here: docs/performance.md) and TBB threads.
+// The cpu backend: the form-factor driver (radiosity/form_factors.h) with the ray caster's
+// visibility (raycast/ray_caster.h), 16-ray packets (measured fastest here: docs/performance.md)
+// and TBB threads.
 #include "backend/backend.h"
-#include "backend/embree_ray_caster.h"
+#include "raycast/ray_caster.h"
 
 namespace daisy {
 namespace {
@@ -12,7 +13,7 @@ public:
 
     Expected<FormFactorResult> buildFormFactors(const PatchMesh& mesh,
                                                 const FormFactorSettings& settings) override {
-        auto caster = EmbreeRayCaster::create(mesh, PacketMode::Packet16);
+        auto caster = makeRayCaster(mesh, {.packetMode = PacketMode::Packet16});
         if (!caster) return caster.error();
         return computeFormFactors(mesh, settings, **caster);
     }

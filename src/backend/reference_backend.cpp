@@ -1,7 +1,7 @@
 // The reference backend (DESIGN.md section 8): the shared pair kernel (shared/pair_kernel.h) run
-// on the CPU over our flat BVH (geometry/flat_bvh.h), one TBB task per chunk of pairs, as a
+// on the CPU over our flat BVH (raycast/flat_bvh.h), one TBB task per chunk of pairs, as a
 // PairEvaluator (radiosity/pair_evaluator.h) of the one driver. It is the oracle the GPU backends
-// are checked against: the same source, no Embree, the same driver as every backend
+// are checked against: the same source, no ray caster, the same driver as every backend
 // (radiosity/form_factors.h); with shaftCulling off it traces every candidate. Every entry is a
 // pure function of (pair, settings), so F is the same for any thread count. The driver refuses
 // the stochastic method: it is not a per-pair kernel.
@@ -9,10 +9,10 @@
 #include <tbb/parallel_for.h>
 
 #include "backend/backend.h"
-#include "geometry/flat_bvh.h"
 #include "radiosity/kernel_inputs.h"
 #include "radiosity/pair_evaluator.h"
-#include "radiosity/ray_caster.h"
+#include "raycast/flat_bvh.h"
+#include "raycast/ray_caster.h"
 #include "shared/pair_kernel.h"
 
 namespace daisy {

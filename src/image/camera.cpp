@@ -210,9 +210,10 @@ Ray primaryRay(const Camera& camera, int width, int height, double x, double y) 
 }
 
 Expected<void> checkRayCamera(const Camera& camera) {
-    // Well inside Embree's FLT_LARGE (1.844e18), and what scene/validate_scene.h allows for scenes.
+    // Well inside the ray caster's largest distance (1.844e18), and what scene/validate_scene.h
+    // allows for scenes.
     constexpr double kMaxRayOrigin = 1e17;
-    // Embree asserts on rays it cannot represent (ray.valid(): |origin| under 1.8e18, finite
+    // The ray caster asserts on rays it cannot represent (|origin| under 1.8e18, finite
     // direction); scenes are range-checked on load, but a camera may come from elsewhere.
     if (!isFinite(camera.position) || !isFinite(camera.forward) || !isFinite(camera.up) ||
         std::max({std::abs(camera.position.x), std::abs(camera.position.y),

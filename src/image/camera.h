@@ -4,7 +4,7 @@
 #include <string>
 
 #include "core/expected.h"
-#include "radiosity/ray_caster.h"
+#include "raycast/ray.h"
 #include "scene/scene.h"
 
 namespace daisy {
@@ -41,7 +41,7 @@ Camera frameScene(const Scene& scene, double aspectRatio);
 // width / height. Direction is unit.
 Ray primaryRay(const Camera& camera, int width, int height, double x, double y);
 
-// Ok when the camera's rays are ones Embree represents (finite, origin within 1e17 of the
+// Ok when the camera's rays are ones the ray caster represents (finite, origin within 1e17 of the
 // origin: scene/validate_scene.h's range), else an error naming the camera.
 Expected<void> checkRayCamera(const Camera& camera);
 

@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "backend/embree_ray_caster.h"
 #include "core/strings.h"
 #include "image/camera.h"
 #include "image/pixel_samples.h"
+#include "raycast/ray_caster.h"
 
 namespace daisy {
 
@@ -52,9 +52,9 @@ Expected<std::vector<uint8_t>> edgeAdaptiveSides(const PatchMesh& mesh, const Ca
                             " samples per pixel is over the limit of 255 x 255")};
     }
     if (auto ok = checkRayCamera(camera); !ok) return withContext(ok.error(), "edge sampling");
-    auto caster = EmbreeRayCaster::create(mesh, PacketMode::Packet16, /*robust=*/true);
+    auto caster = makeRayCaster(mesh, {.packetMode = PacketMode::Packet16, .robust = true});
     if (!caster) return withContext(caster.error(), "edge sampling");
-    const EmbreeRayCaster& tracer = **caster;
+    const RayCaster& tracer = **caster;
 
     std::vector<CentreHit> centres(std::size_t(w) * h);
     forEachImageRow(h, settings.threads, [&](const tbb::blocked_range<int>& rows) {

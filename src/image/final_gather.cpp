@@ -8,13 +8,13 @@
 #include <numbers>
 #include <span>
 
-#include "backend/embree_ray_caster.h"
 #include "core/check.h"
 #include "core/strings.h"
 #include "image/camera.h"
 #include "image/emitter_lights.h"
 #include "image/pixel_samples.h"
 #include "radiosity/hybrid_far_field.h"
+#include "raycast/ray_caster.h"
 #include "shared/formfactor.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
@@ -94,7 +94,7 @@ shared::vec3 pointInFront(const shared::PatchGeometry& t, shared::vec3 x, shared
     return shared::stratifiedPointOnTriangle(seed, index, count, inFirst ? first : second);
 }
 
-// Fraction of a shadow segment left out at the light's end (Embree's own margin is 1e-5).
+// Fraction of a shadow segment left out at the light's end (the ray caster's own margin is 1e-5).
 constexpr float kLightClearance = 1e-3f;
 
 // Lights up to which every light's exact factor weighs every sample's shadow segments.
@@ -183,7 +183,7 @@ class LightSampler {
 public:
     LightSampler(const std::vector<Light>& lights, const PatchLights& seen,
                  const std::vector<const double*>& spectra, std::size_t wavelengths,
-                 bool exactWeights, const EmbreeRayCaster& tracer, int maxSegments)
+                 bool exactWeights, const RayCaster& tracer, int maxSegments)
         : lights_(lights),
           seen_(seen),
           spectra_(spectra),
@@ -339,7 +339,7 @@ private:
     const std::vector<const double*>& spectra_;  // the emission of each Light::spectrum
     std::size_t m_;
     bool exactWeights_;
-    const EmbreeRayCaster& tracer_;
+    const RayCaster& tracer_;
     SegmentArrays segments_;
     std::vector<uint8_t> blocked_;
     std::vector<uint32_t> chosen_;  // per segment: its light
@@ -423,9 +423,9 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
     }
     if (auto ok = checkRayCamera(camera); !ok) return withContext(ok.error(), "final gather");
     // Robust like the renderer's, so both see the same surface at every sample.
-    auto caster = EmbreeRayCaster::create(patches, PacketMode::Packet16, /*robust=*/true);
+    auto caster = makeRayCaster(patches, {.packetMode = PacketMode::Packet16, .robust = true});
     if (!caster) return withContext(caster.error(), "final gather");
-    const EmbreeRayCaster& tracer = **caster;
+    const RayCaster& tracer = **caster;
     const std::vector<Light> lights = lightsOf(scene, patches, system);
 
     const std::size_t m = set.size();

@@ -9,8 +9,8 @@
 #include <cmath>
 
 #include "core/check.h"
-#include "pipeline/patch_exposure.h"
 #include "radiosity/hybrid_far_field.h"
+#include "radiosity/patch_exposure.h"
 #include "shared/formfactor.h"
 
 namespace daisy {

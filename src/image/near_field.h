@@ -38,11 +38,11 @@
 #include <span>
 #include <vector>
 
-#include "backend/embree_ray_caster.h"
 #include "geometry/patch_mesh.h"
-#include "pipeline/patch_exposure.h"
+#include "radiosity/patch_exposure.h"
 #include "radiosity/radiosity_system.h"
 #include "radiosity/transport.h"
+#include "raycast/ray.h"
 #include "shared/gpu_types.h"
 
 namespace daisy {
@@ -77,7 +77,7 @@ public:
     void setSmoothImage(std::vector<float> corners, std::vector<float> emission, int channels);
 
     // Adds Near(x) (m values, W m^-2 nm^-1 of irradiance) at the point of patch `patch` with
-    // Embree's barycentrics (u weights corner 1, v corner 2), and returns Omega(x). Thread-safe.
+    // the hit's barycentrics (u weights corner 1, v corner 2), and returns Omega(x). Thread-safe.
     double addIrradiance(uint32_t patch, float u, float v, std::span<double> irradiance) const;
 
     // values[c] -= omega (S(hit) - E_i / pi)[c] for the first values.size() channels (no

@@ -10,8 +10,8 @@
 #include "image/pixel_samples.h"
 #include "image/texture_detail.h"
 #include "pipeline/channel_layout.h"
-#include "pipeline/patch_exposure.h"
 #include "pipeline/vertex_radiance.h"
+#include "radiosity/patch_exposure.h"
 
 namespace daisy {
 

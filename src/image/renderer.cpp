@@ -6,11 +6,11 @@
 #include <cmath>
 #include <memory>
 
-#include "backend/embree_ray_caster.h"
 #include "core/check.h"
 #include "core/strings.h"
 #include "image/camera.h"
 #include "image/pixel_samples.h"
+#include "raycast/ray_caster.h"
 
 namespace daisy {
 
@@ -48,9 +48,9 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
     }
     if (auto ok = checkRayCamera(camera); !ok) return withContext(ok.error(), "render");
     // Watertight (robust) intersection: no background between patches (issue 19).
-    auto caster = EmbreeRayCaster::create(mesh, PacketMode::Packet16, /*robust=*/true);
+    auto caster = makeRayCaster(mesh, {.packetMode = PacketMode::Packet16, .robust = true});
     if (!caster) return withContext(caster.error(), "render");
-    const EmbreeRayCaster& tracer = **caster;
+    const RayCaster& tracer = **caster;
 
     int maxSide = samplesPerSide(settings.samplesPerPixel);
     for (const uint8_t side : settings.pixelSides)
@@ -89,7 +89,7 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                             sum[c] += background[c];
                         continue;
                     }
-                    // Embree's barycentrics weight corners 1 and 2; corner 0 takes the rest.
+                    // The hit's barycentrics weight corners 1 and 2; corner 0 takes the rest.
                     const double w1 = hit.u;
                     const double w2 = hit.v;
                     const double w0 = 1 - w1 - w2;

@@ -1,5 +1,5 @@
 #pragma once
-// The ray-cast image renderer (DESIGN.md section 7): one Embree primary ray per sample, the hit
+// The ray-cast image renderer (DESIGN.md section 7): one primary ray per sample, the hit
 // patch and its barycentric coordinates, and barycentric interpolation of per-corner values
 // (vertex_radiance.h). N x N stratified supersampling per pixel (box filter); rays that miss
 // get the background value. Parallel over rows (TBB); deterministic.
@@ -7,10 +7,10 @@
 #include <span>
 #include <vector>
 
-#include "backend/embree_ray_caster.h"
 #include "core/expected.h"
 #include "geometry/patch_mesh.h"
 #include "image/image.h"
+#include "raycast/ray.h"
 #include "scene/scene.h"
 
 namespace daisy {
@@ -50,8 +50,8 @@ public:
 
 // Renders `channels` values per pixel from per-corner values (cornerValues()'s layout). A pixel
 // is the mean of its samples; a sample that misses takes background[c] (background.size() ==
-// channels). Fails (no crash) when Embree cannot build the scene, when the camera lies outside
-// what float32 rays represent, and when renderImageBytes exceeds settings.maxMemoryBytes.
+// channels). Fails (no crash) when the ray caster cannot build the scene, when the camera lies
+// outside what float32 rays represent, and when renderImageBytes exceeds settings.maxMemoryBytes.
 Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                                    const RenderSettings& settings, std::span<const float> corners,
                                    int channels, std::span<const float> background,

@@ -6,7 +6,7 @@
 //   patch, the emission's), so a patch's image still averages to its solved radiance. The XYZ
 //   channels are scaled in linear sRGB per channel; spectral channels by the luminance ratio.
 // - Double-sided surfaces: a hit on a patch seen from behind is moved to its back patch
-//   (PatchMesh::backPatch), whatever Embree returned for the two coincident triangles.
+//   (PatchMesh::backPatch), whatever the ray caster returned for the two coincident triangles.
 #include <cstddef>
 #include <span>
 

@@ -8,7 +8,6 @@
 #include <numbers>
 #include <vector>
 
-#include "backend/embree_ray_caster.h"
 #include "core/check.h"
 #include "core/progress.h"
 #include "core/strings.h"
@@ -17,6 +16,7 @@
 #include "image/camera.h"
 #include "image/pixel_samples.h"
 #include "radiosity/radiosity_system.h"
+#include "raycast/ray_caster.h"
 #include "shared/rng.h"
 
 namespace daisy {
@@ -154,7 +154,7 @@ struct Tracer {
     const PatchMesh& mesh;
     const RadiositySystem& system;
     const EmitterTable& emitters;
-    const EmbreeRayCaster& caster;
+    const RayCaster& caster;
     const Responses& responses;
     double offset;  // origin offset along the normal, scene units
     int maxBounces;
@@ -320,7 +320,7 @@ Expected<PathTraceResult> pathTrace(const Scene& scene, const WavelengthSet& set
     if (!mesh) return withContext(mesh.error(), "path trace");
     auto system = buildRadiositySystem(scene, *mesh, set);
     if (!system) return withContext(system.error(), "path trace");
-    auto caster = EmbreeRayCaster::create(*mesh, PacketMode::Single);
+    auto caster = makeRayCaster(*mesh, {.packetMode = PacketMode::Single});
     if (!caster) return withContext(caster.error(), "path trace");
     const EmitterTable emitters = emitterTable(*mesh, *system);
 

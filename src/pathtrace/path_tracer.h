@@ -55,7 +55,8 @@ struct PathTraceResult {
 
 // Path traces `scene` (its materials sampled on `set`) through `camera`. Fails (no crash) on a
 // bad size or sample count, a material that cannot be sampled, a camera outside float32 range,
-// or when Embree cannot build the scene. A cancelled run returns what it has, cancelled = true.
+// or when the ray caster cannot build the scene. A cancelled run returns what it has,
+// cancelled = true.
 Expected<PathTraceResult> pathTrace(const Scene& scene, const WavelengthSet& set,
                                     const Camera& camera, const PathTraceSettings& settings,
                                     const CancelToken* cancel = nullptr);

@@ -15,10 +15,10 @@
 #include "core/timer.h"
 #include "geometry/auto_patch_size.h"
 #include "pipeline/backend_registry.h"
-#include "pipeline/punctual_lights.h"
 #include "pipeline/vertex_radiance.h"
 #include "radiosity/exposed_system.h"
 #include "radiosity/matrix_transport.h"
+#include "radiosity/punctual_lights.h"
 
 namespace daisy {
 

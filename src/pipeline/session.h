@@ -24,10 +24,10 @@
 #include "geometry/patch_mesh.h"
 #include "pipeline/channel_layout.h"
 #include "pipeline/formfactor_cache.h"
-#include "pipeline/patch_exposure.h"
 #include "radiosity/energy.h"
 #include "radiosity/form_factors.h"
 #include "radiosity/matrix_estimate.h"
+#include "radiosity/patch_exposure.h"
 #include "radiosity/radiosity_system.h"
 #include "radiosity/solver.h"
 #include "radiosity/transport.h"
@@ -175,7 +175,7 @@ public:
     // request.maxIterations bounds the solve), not an error; cancellation returns the last
     // iterate with cancelled = true.
     Expected<SolverResult> solve(const SolveRequest& request = {});
-    // The exposed share of every patch (pipeline/patch_exposure.h), probed on first use (Embree).
+    // The exposed share of every patch (radiosity/patch_exposure.h), probed on first use (rays).
     Expected<const PatchExposure*> exposure() const;
     // The energy bookkeeping of the solution (radiosity/energy.h), of the exposed parts when the
     // last solve used them (then light reaching a buried part is not counted as escaped).

@@ -15,7 +15,7 @@ inline constexpr double kCreaseAngleRad = 0.5235987755982988;
 
 // patchValues: patchCount x channels (row-major). Returns patchCount x 3 x channels: corner c of
 // patch p at [(p * 3 + c) * channels]. areaWeights (one per patch, empty = mesh.areas) replaces
-// the patch areas in the means (the gather's exposed areas, pipeline/patch_exposure.h).
+// the patch areas in the means (the gather's exposed areas, radiosity/patch_exposure.h).
 std::vector<float> cornerValues(const PatchMesh& mesh, std::span<const float> patchValues,
                                 int channels, double creaseAngleRad = kCreaseAngleRad,
                                 std::span<const double> areaWeights = {});

@@ -33,8 +33,8 @@
 #include "core/progress.h"
 #include "geometry/patch_mesh.h"
 #include "radiosity/pair_evaluator.h"
-#include "radiosity/ray_caster.h"
 #include "radiosity/sparse_matrix.h"
+#include "raycast/ray_caster.h"
 
 namespace daisy {
 

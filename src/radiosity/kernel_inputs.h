@@ -12,7 +12,7 @@
 // Pairs are unordered patch indices i < j (shared::PairIndex); results are shared::PairFactors,
 // both directions of one evaluation. A backend that uploads these values (vulkan, cuda) uploads
 // exactly these arrays and numbers; nothing else about the mesh reaches a kernel except the flat
-// BVH (geometry/flat_bvh.h) or a RayCaster for the shadow segments.
+// BVH (raycast/flat_bvh.h) or a RayCaster for the shadow segments.
 #include <cstdint>
 #include <vector>
 

@@ -1,6 +1,6 @@
 #pragma once
 // The cpu backend's pair evaluation for the form-factor driver: the CPU kernel
-// (shared/formfactor.h) and a RayCaster's segment queries (Embree in the cpu backend), one TBB
+// (shared/formfactor.h) and a RayCaster's segment queries (raycast/ray_caster.h), one TBB
 // task per chunk of pairs. Both entries are the unoccluded factors (radiosity/hybrid_far_field.h,
 // bit-identical to the shared kernel) times V (shared::kernelWeightedVisibility) in float, the
 // factors computed only for pairs some segment reaches.
@@ -9,7 +9,7 @@
 #include "geometry/patch_mesh.h"
 #include "radiosity/form_factors.h"
 #include "radiosity/pair_evaluator.h"
-#include "radiosity/ray_caster.h"
+#include "raycast/ray_caster.h"
 
 namespace daisy {
 

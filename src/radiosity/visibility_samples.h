@@ -5,7 +5,7 @@
 // seeds, the pair's orientation) computed once instead of K times, which makes generation about
 // several times faster. tests/radiosity/visibility_samples_test.cpp holds the two equal.
 
-#include "radiosity/ray_caster.h"
+#include "raycast/ray.h"
 #include "shared/gpu_types.h"
 
 namespace daisy {

@@ -16,7 +16,7 @@ namespace daisy {
 
 Expected<void> validateScene(Scene& scene);
 
-// The limits of float32 geometry (form-factor kernels, Embree and the GPU backends), measured on
+// The limits of float32 geometry (form-factor kernels, the ray caster, GPU backends), measured on
 // the Cornell box scaled by powers of ten: factors are exact up to a 5e8 m scene and from a
 // 5e-10 m one, and wrong (inf, zero rows) from 5e9 m and at 5e-11 m; the limits keep a factor
 // of 5 to 50 from both. A scene may not lie further from the origin than kMaxOffsetRatio times

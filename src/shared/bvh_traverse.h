@@ -1,4 +1,4 @@
-// Traversal of the flat BVH (gpu_types.h BvhNode / BvhTriangle, built by geometry/flat_bvh.h):
+// Traversal of the flat BVH (gpu_types.h BvhNode / BvhTriangle, built by raycast/flat_bvh.h):
 // an explicit stack (no recursion in the dialect) of DAISY_BVH_STACK_SIZE entries, enough for
 // any tree the builder makes. Rays are org + t dir, t in units of |dir|; both triangle sides hit.
 // Preconditions: the BVH has at least one triangle and dir != 0.

@@ -35,11 +35,11 @@
 #define DAISY_FF_MAX_CELLS 128
 
 // Entries of the BVH traversal stack (bvh_traverse.h), one per tree level below the root: the
-// builder (geometry/flat_bvh.cpp) caps the depth at this, so the stack cannot overflow. 64 uints
+// builder (raycast/flat_bvh.cpp) caps the depth at this, so the stack cannot overflow. 64 uints
 // are 256 bytes of local memory per GPU thread.
 #define DAISY_BVH_STACK_SIZE 64
 // Shadow segments are tested for t in (MARGIN, 1 - MARGIN) of their length: the relative end
-// margin of the cpu backend's Embree rays (RayCaster::kSegmentMargin), so both test the same span.
+// margin of the ray caster's segments (RayCaster::kSegmentMargin), so both test the same span.
 #define DAISY_SEGMENT_MARGIN 1.0e-5f
 
 // What one specialisation of the pair kernel (shaders/form_factors.comp.glsl) computes per pair:

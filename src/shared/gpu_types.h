@@ -29,7 +29,7 @@ struct PairFactors {
     float fji;  // fraction leaving j arriving at i; A_i fij = A_j fji (reciprocity)
 };
 
-// One node of the flat BVH (geometry/flat_bvh.h), 32 bytes, nodes in depth-first order with the
+// One node of the flat BVH (raycast/flat_bvh.h), 32 bytes, nodes in depth-first order with the
 // root at 0. Interior node (count == 0): its children are nodes `first` and `first + 1`. Leaf
 // (count > 0): triangles first .. first + count - 1 of the BVH's triangle array.
 struct BvhNode {

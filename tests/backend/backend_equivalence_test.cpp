@@ -173,7 +173,7 @@ TEST(ReferenceBackend, UnoccludedMatrixEqualsCpuBitForBit) {
 }
 
 // With visibility the sample points, segments and culling decisions are the same (one driver);
-// only the ray tests (Embree vs our traversal) can differ, on segments that graze an edge. Nearly
+// only the ray tests (CPU rays vs our traversal) can differ, on segments that graze an edge. Nearly
 // every entry must be identical and the rest within a few rays' worth: up to 4 of 16 segments,
 // for pairs mirror-symmetric about the half-occluding plate's edge, whose segments cross exactly
 // that edge, where rounding alone decides (one such pair differs). V is kernel-weighted, so 4

@@ -69,7 +69,7 @@ protected:
 // (1e-4 relative: the GPU backends' float arithmetic differs from the CPU's in the last bits) but
 // for segments that graze an edge, on at most 1% of entries, nearly all within 2 of the 16 rays'
 // worth (F_unoccluded / 8). Boxes standing on the floor (scene (d)) have pairs whose segments run
-// through the contact edge, where Embree and our traversal decide differently: at most 4 entries
+// through the contact edge, where CPU rays and our traversal decide differently: at most 4 entries
 // (2 pairs) or 1 in 10^4 may differ by more.
 TEST_P(FormFactorFamily, AgreesWithTheReferenceEntryByEntry) {
     const std::string scene = std::get<0>(GetParam());

@@ -1,7 +1,7 @@
 // Micro-benchmarks of the view-factor build (Google Benchmark; not in ctest): the shared
-// per-pair kernels (pairs/s), the sample generator, Embree occlusion rays in each packet mode
-// (rays/s), and the two BVH builds (Embree's scene, our flat BVH; patches/s) on the benchmark
-// scene assets/scenes/blacklight_box.gltf. Run:
+// per-pair kernels (pairs/s), the sample generator, the ray caster's occlusion rays in each packet
+// mode (rays/s), and the two BVH builds (the ray caster's scene, our flat BVH; patches/s) on the
+// benchmark scene assets/scenes/blacklight_box.gltf. Run:
 //   cmake --build build --target daisy_microbench && build/daisy_microbench
 // Results and the commands are recorded in docs/performance.md.
 #include <benchmark/benchmark.h>
@@ -11,11 +11,11 @@
 #include <random>
 #include <vector>
 
-#include "backend/embree_ray_caster.h"
-#include "geometry/flat_bvh.h"
 #include "geometry/patch_mesh.h"
 #include "radiosity/shaft.h"
 #include "radiosity/visibility_samples.h"
+#include "raycast/flat_bvh.h"
+#include "raycast/ray_caster.h"
 #include "scene/load_scene.h"
 #include "shared/formfactor.h"
 #include "shared/sampling.h"
@@ -154,11 +154,10 @@ BENCHMARK(BM_ShaftBuild);
 
 // Occlusion segments of 16 samples for each of 4096 random facing pairs (more of them blocked
 // than in the driver, which traces only pairs shaft culling could not settle), per packet mode.
-void BM_EmbreeOccluded(benchmark::State& state) {
+void BM_RayCasterOccluded(benchmark::State& state) {
     const BenchScene& s = benchScene();
     const auto mode = static_cast<PacketMode>(state.range(0));
-    static std::unique_ptr<EmbreeRayCaster> caster =
-        std::move(EmbreeRayCaster::create(s.mesh).value());
+    static std::unique_ptr<RayCaster> caster = std::move(makeRayCaster(s.mesh).value());
     caster->setPacketMode(mode);
     SegmentArrays segments;
     segments.resize(s.facingPairs.size() * 16);
@@ -178,7 +177,7 @@ void BM_EmbreeOccluded(benchmark::State& state) {
         double(state.iterations()) * double(segments.size()), benchmark::Counter::kIsRate);
     state.SetLabel(packetModeName(mode));
 }
-BENCHMARK(BM_EmbreeOccluded)
+BENCHMARK(BM_RayCasterOccluded)
     ->Arg(int(PacketMode::Single))
     ->Arg(int(PacketMode::Packet4))
     ->Arg(int(PacketMode::Packet8))
@@ -186,11 +185,11 @@ BENCHMARK(BM_EmbreeOccluded)
     ->Arg(int(PacketMode::Stream))
     ->Unit(benchmark::kMillisecond);
 
-// Embree scene build (rtcCommitScene, high-quality BVH) of the whole scene, one thread pool.
-void BM_EmbreeBuild(benchmark::State& state) {
+// The ray caster's scene build (a high-quality BVH) of the whole scene, one thread pool.
+void BM_RayCasterBuild(benchmark::State& state) {
     const BenchScene& s = benchScene();
     for (auto _ : state) {
-        auto caster = EmbreeRayCaster::create(s.mesh);
+        auto caster = makeRayCaster(s.mesh);
         if (!caster) {
             state.SkipWithError(caster.error().message.c_str());
             return;
@@ -200,9 +199,9 @@ void BM_EmbreeBuild(benchmark::State& state) {
     state.counters["patches/s"] = benchmark::Counter(
         double(state.iterations()) * double(s.mesh.patchCount()), benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_EmbreeBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RayCasterBuild)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// The flat BVH of the reference and GPU backends (geometry/flat_bvh.h): build and flatten.
+// The flat BVH of the reference and GPU backends (raycast/flat_bvh.h): build and flatten.
 void BM_FlatBvhBuild(benchmark::State& state) {
     const BenchScene& s = benchScene();
     for (auto _ : state) {

@@ -16,8 +16,8 @@
 #include "cuda/batch_plan.h"
 #include "cuda/double_buffer.h"
 #include "cuda/pair_slot.h"
-#include "geometry/flat_bvh.h"
 #include "radiosity/kernel_inputs.h"
+#include "raycast/flat_bvh.h"
 #include "shared/config.h"
 #include "verify/scenes.h"
 

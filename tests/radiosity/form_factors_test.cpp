@@ -15,10 +15,10 @@
 #include <memory>
 #include <random>
 
-#include "backend/embree_ray_caster.h"
 #include "radiosity/kernel_inputs.h"
 #include "radiosity/matrix_compare.h"
 #include "radiosity/matrix_transport.h"
+#include "raycast/ray_caster.h"
 #include "shared/formfactor.h"
 #include "verify/closed_forms.h"
 #include "verify/scenes.h"
@@ -36,7 +36,7 @@ using verify::perpendicularSquares;
 
 FormFactorResult build(const PatchMesh& mesh, FormFactorSettings settings) {
     settings.progress = false;
-    auto caster = EmbreeRayCaster::create(mesh);
+    auto caster = makeRayCaster(mesh);
     EXPECT_TRUE(caster.ok());
     auto result = computeFormFactors(mesh, settings, **caster);
     EXPECT_TRUE(result.ok()) << (result.ok() ? "" : result.error().message);
@@ -287,7 +287,7 @@ TEST(FormFactors, RefusesABuildOverMaxMemory) {
     settings.maxMemoryBytes = 1000;
     settings.progress = false;
     const PatchMesh cube = patchesOf(verify::unitCubeRoom(3));
-    auto caster = EmbreeRayCaster::create(cube);
+    auto caster = makeRayCaster(cube);
     auto result = computeFormFactors(cube, settings, **caster);
     ASSERT_FALSE(result.ok());
     EXPECT_NE(result.error().message.find("--max-memory"), std::string::npos);

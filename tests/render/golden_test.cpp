@@ -2,7 +2,7 @@
 // line, compared pixel by pixel with the committed references in tests/golden/ in CIEDE2000
 // (spectral/color.h, sRGB white). Tolerance: mean Delta E00 <= 1 (about one just-noticeable
 // difference, Sharma et al. 2005) and 99th percentile <= 3, which leaves room for the pixels on
-// silhouettes, where a different compiler or Embree ISA may pick the other surface of an edge,
+// silhouettes, where a different compiler or ray-caster ISA may pick the other surface of an edge,
 // while any change to the view factors, the solve, the shading or exposure that a viewer could
 // see fails. Each render uses fixed settings (size, patch size, method, exposure) so that it
 // runs in a few seconds and does not depend on the automatic choices.

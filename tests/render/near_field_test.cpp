@@ -46,7 +46,7 @@ Session solvedSession(Scene scene, double maxEdge) {
 }
 
 // The patch of `patches` in the plane z = 0 facing +z that contains (x, y, 0), and the point's
-// barycentrics there as Embree gives them (u on corner 1, v on corner 2).
+// barycentrics there as the ray caster gives them (u on corner 1, v on corner 2).
 struct FloorPoint {
     uint32_t patch = kNoPatch;
     float u = 0, v = 0;

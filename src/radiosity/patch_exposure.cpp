@@ -1,4 +1,4 @@
-#include "pipeline/patch_exposure.h"
+#include "radiosity/patch_exposure.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -8,8 +8,8 @@
 #include <bit>
 #include <cmath>
 
-#include "backend/embree_ray_caster.h"
 #include "core/check.h"
+#include "raycast/ray_caster.h"
 #include "shared/sampling.h"
 
 namespace daisy {
@@ -53,9 +53,9 @@ Expected<PatchExposure> patchExposure(const PatchMesh& patches) {
     exposure.fraction.assign(n, 1.0f);
     exposure.exposedPoints.assign(n, uint16_t(0xffff));
     if (n == 0) return exposure;
-    auto caster = EmbreeRayCaster::create(patches, PacketMode::Packet16, /*robust=*/true);
+    auto caster = makeRayCaster(patches, {.packetMode = PacketMode::Packet16, .robust = true});
     if (!caster) return withContext(caster.error(), "patch exposure");
-    const EmbreeRayCaster& tracer = **caster;
+    const RayCaster& tracer = **caster;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const auto& range) {
         std::array<Ray, kPatchQuadraturePoints * kProbeRays> rays{};
         std::array<SurfaceHit, kPatchQuadraturePoints * kProbeRays> hits{};

@@ -1,4 +1,4 @@
-#include "pipeline/punctual_lights.h"
+#include "radiosity/punctual_lights.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "backend/embree_ray_caster.h"
 #include "core/strings.h"
+#include "raycast/ray_caster.h"
 #include "spectral/fluorescence.h"
 
 namespace daisy {
@@ -50,7 +50,7 @@ Expected<LightGeometry> punctualLightGeometry(const PatchMesh& patches,
     const std::size_t n = patches.patchCount(), count = lights.size();
     geometry.factors.assign(n * count, 0);
     if (n == 0 || count == 0) return geometry;
-    auto caster = EmbreeRayCaster::create(patches);
+    auto caster = makeRayCaster(patches);
     if (!caster) return withContext(caster.error(), "lights");
     Bounds3d bounds;
     for (const Vec3d& p : patches.positions)

@@ -1,7 +1,7 @@
-// The flat BVH (geometry/flat_bvh.h) and its shared traversal (shared/bvh_traverse.h). Oracles:
+// The flat BVH (raycast/flat_bvh.h) and its shared traversal (shared/bvh_traverse.h). Oracles:
 // the structural invariants (validateFlatBvh), and brute force: the closest hit and any-hit
 // answers of a loop over every triangle with the same watertight test (shared/intersect.h).
-#include "geometry/flat_bvh.h"
+#include "raycast/flat_bvh.h"
 
 #include <gtest/gtest.h>
 

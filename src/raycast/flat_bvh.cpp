@@ -1,4 +1,4 @@
-#include "geometry/flat_bvh.h"
+#include "raycast/flat_bvh.h"
 
 #include <embree3/rtcore.h>
 

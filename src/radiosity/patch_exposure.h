@@ -1,5 +1,5 @@
 #pragma once
-// Exposed parts of patches (issue 16, session 3; docs/rendering.md). A floor subdivided without
+// Exposed parts of patches (docs/rendering.md). A floor subdivided without
 // regard to the blocks standing on it has patches that run under a block: their buried part
 // sees only the inside of the block, so F_ij from its points is 0 (blocked). The session
 // solves for the exposed parts (radiosity/exposed_system.h) and stores B_i - E_i as the
@@ -29,8 +29,8 @@ struct PatchExposure {
     std::vector<uint16_t> exposedPoints;  // per patch: bit q set when point q is exposed
 };
 
-// Probes every patch's 16 points (80 rays a patch, Embree, parallel). Fails (no crash) when
-// Embree cannot build the scene.
+// Probes every patch's 16 points (80 rays a patch, parallel). Fails (no crash) when the ray
+// caster cannot build the scene.
 Expected<PatchExposure> patchExposure(const PatchMesh& patches);
 
 // Per patch, its area times phi: the area weights of the smooth image's vertex means

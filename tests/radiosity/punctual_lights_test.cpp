@@ -1,7 +1,8 @@
-// Issue 19: KHR_lights_punctual lights as direct sources. Oracles: the inverse-square cosine law
-// for a point light over a plane, full shadow under a plate that covers the plane, the spot
-// cone of KHR_lights_punctual's recommended falloff, and E_i = M_i H_i in the solved system.
-#include "pipeline/punctual_lights.h"
+// KHR_lights_punctual lights as direct sources (radiosity/punctual_lights.h). Oracles: the
+// inverse-square cosine law for a point light over a plane, full shadow under a plate that
+// covers the plane, the spot cone of KHR_lights_punctual's recommended falloff, and
+// E_i = M_i H_i in the solved system.
+#include "radiosity/punctual_lights.h"
 
 #include <gtest/gtest.h>
 

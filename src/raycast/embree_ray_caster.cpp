@@ -1,4 +1,4 @@
-#include "backend/embree_ray_caster.h"
+#include "raycast/embree_ray_caster.h"
 
 #include <embree3/rtcore.h>
 
@@ -89,34 +89,18 @@ void occludedPackets(RTCScene scene, const SegmentArrays& segments, std::span<ui
 
 }  // namespace
 
-const char* packetModeName(PacketMode mode) {
-    switch (mode) {
-        case PacketMode::Single:
-            return "single";
-        case PacketMode::Packet4:
-            return "packet4";
-        case PacketMode::Packet8:
-            return "packet8";
-        case PacketMode::Packet16:
-            return "packet16";
-        case PacketMode::Stream:
-            return "stream";
-    }
-    return "?";
-}
-
-Expected<std::unique_ptr<EmbreeRayCaster>> EmbreeRayCaster::create(const PatchMesh& mesh,
-                                                                   PacketMode mode, bool robust) {
+Expected<std::unique_ptr<EmbreeRayCaster>> EmbreeRayCaster::create(
+    const PatchMesh& mesh, const RayCasterOptions& options) {
     auto impl = std::make_unique<Impl>();
-    impl->mode = mode;
+    impl->mode = options.packetMode;
     impl->device = rtcNewDevice(nullptr);
     if (impl->device == nullptr) {
         return Error{
-            concat("cpu backend: Embree could not create a device (", deviceError(nullptr), ")")};
+            concat("ray caster: Embree could not create a device (", deviceError(nullptr), ")")};
     }
     impl->scene = rtcNewScene(impl->device);
     rtcSetSceneBuildQuality(impl->scene, RTC_BUILD_QUALITY_HIGH);
-    if (robust) rtcSetSceneFlags(impl->scene, RTC_SCENE_FLAG_ROBUST);
+    if (options.robust) rtcSetSceneFlags(impl->scene, RTC_SCENE_FLAG_ROBUST);
     RTCGeometry geometry = rtcNewGeometry(impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vertices = static_cast<float*>(
         rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
@@ -127,7 +111,7 @@ Expected<std::unique_ptr<EmbreeRayCaster>> EmbreeRayCaster::create(const PatchMe
     if (vertices == nullptr || (indices == nullptr && mesh.patchCount() > 0)) {
         const std::string why = deviceError(impl->device);
         rtcReleaseGeometry(geometry);
-        return Error{concat("cpu backend: Embree could not allocate the scene (", why, ")")};
+        return Error{concat("ray caster: Embree could not allocate the scene (", why, ")")};
     }
     Bounds3d bounds;
     for (std::size_t v = 0; v < mesh.vertexCount(); ++v) {
@@ -143,7 +127,7 @@ Expected<std::unique_ptr<EmbreeRayCaster>> EmbreeRayCaster::create(const PatchMe
     rtcReleaseGeometry(geometry);
     rtcCommitScene(impl->scene);
     if (rtcGetDeviceError(impl->device) != RTC_ERROR_NONE) {
-        return Error{concat("cpu backend: Embree could not build the scene (",
+        return Error{concat("ray caster: Embree could not build the scene (",
                             deviceError(impl->device), ")")};
     }
     // Closest-hit rays start on their patch: skip hits nearer than float rounding at the

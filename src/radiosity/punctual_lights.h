@@ -1,5 +1,5 @@
 #pragma once
-// KHR_lights_punctual as direct sources (issue 19): the lights' direct irradiance on every
+// KHR_lights_punctual as direct sources: the lights' direct irradiance on every
 // patch, with visibility, reflected once into the emission term, E_i += M_i H_i, so the
 // radiosity solve carries every later bounce. Units follow scene.h's PunctualLight: a light of
 // colour c and intensity I (candela) at distance d gives the irradiance c I cos(theta) / d^2 as
@@ -24,7 +24,7 @@ struct LightGeometry {
     std::vector<double> factors;  // patchCount x lightCount, row-major
 };
 
-// Traces the shadow rays (Embree). Errors when Embree cannot build the scene.
+// Traces the shadow rays. Errors when the ray caster cannot build the scene.
 Expected<LightGeometry> punctualLightGeometry(const PatchMesh& patches,
                                               const std::vector<PunctualLight>& lights);
 

@@ -1,5 +1,5 @@
-// Exposed parts of patches (pipeline/patch_exposure.h): a closed box standing on a subdivided floor
-// buries exactly the floor's quadrature points inside its footprint (the oracle is the
+// Exposed parts of patches (radiosity/patch_exposure.h): a closed box standing on a subdivided
+// floor buries exactly the floor's quadrature points inside its footprint (the oracle is the
 // footprint itself: a point is under the box or not), and nothing else; an open scene, where no
 // point is inside anything, is exposed everywhere.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <numeric>
 
 #include "geometry/patch_mesh.h"
-#include "pipeline/patch_exposure.h"
+#include "radiosity/patch_exposure.h"
 #include "verify/scenes.h"
 
 namespace daisy {
