@@ -1,15 +1,18 @@
-// `daisy bench` (issue 7): two modes. `--stress` runs the numerical stress suite (app/stress.h)
-// and prints one row per case (exit status 0 when every row passes, 1 otherwise); without it,
-// the time-vs-error sweep of app/bench_sweep.h. Both write CSV with -o.
+// `daisy bench`: two modes. `--stress` runs the numerical stress suite (bench/stress.h) and
+// prints one row per case (exit status 0 when every row passes, 1 otherwise); without it, run
+// time against error, against the path-traced reference (bench/path_bench.h, the default) or
+// a converged daisy (bench/sweep.h). All write CSV with -o. This file parses and prints; the
+// runs, their errors and their files are the library's.
 #include <cstdio>
-#include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include "app/bench_path.h"
-#include "app/bench_sweep.h"
 #include "app/commands.h"
-#include "app/stress.h"
+#include "app/session_options.h"
+#include "bench/path_bench.h"
+#include "bench/stress.h"
+#include "bench/sweep.h"
 #include "core/log.h"
 #include "core/strings.h"
 #include "core/timer.h"
@@ -17,61 +20,17 @@
 namespace daisy::app {
 namespace {
 
-std::string csvField(const std::string& text) {
-    if (text.find_first_of(",\"\n") == std::string::npos) return text;
-    std::string quoted = "\"";
-    for (char c : text)
-        quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return quoted + "\"";
-}
-
-std::string shortNumber(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.3g", value);
-    return text;
-}
-
-void printStressHeader(bool quiet) {
-    if (quiet) return;
-    std::printf("%-28s %-9s %8s %10s %10s %-6s %8s  %-4s  %s\n", "case", "backend", "patches",
-                "error", "tolerance", "finite", "time s", "", "oracle; status");
-}
-
-void printStressRow(const StressRow& row, bool quiet) {
-    if (quiet && row.pass) return;
-    std::printf("%-28s %-9s %8llu %10s %10s %-6s %8.3f  %-4s  %s; %s\n", row.name.c_str(),
-                row.backend.c_str(), static_cast<unsigned long long>(row.patches),
-                shortNumber(row.error).c_str(), shortNumber(row.tolerance).c_str(),
-                row.finite ? "yes" : "NO", row.seconds, row.pass ? "PASS" : "FAIL",
-                row.oracle.c_str(), row.status.c_str());
-    std::fflush(stdout);
-}
-
-Expected<void> writeStressCsv(const std::string& path, const std::vector<StressRow>& rows,
-                              const std::string& command) {
-    std::ofstream out(path);
-    if (!out) return Error{concat(path, ": cannot open for writing")};
-    out << "# " << command << "\n";
-    out << "case,backend,patches,oracle,error,tolerance,finite,status,seconds,pass\n";
-    for (const StressRow& row : rows) {
-        out << csvField(row.name) << ',' << row.backend << ',' << row.patches << ','
-            << csvField(row.oracle) << ',' << shortNumber(row.error) << ','
-            << shortNumber(row.tolerance) << ',' << (row.finite ? "yes" : "no") << ','
-            << csvField(row.status) << ',' << row.seconds << ',' << (row.pass ? "PASS" : "FAIL")
-            << '\n';
-    }
-    if (!out) return Error{concat(path, ": write failed")};
-    return {};
-}
-
 int runStress(const CommonOptions& options, const BenchOptions& bench) {
     StressSettings settings;
     settings.quick = bench.quick;
     settings.threads = options.threads;
     const auto start = Clock::now();
-    printStressHeader(options.quiet);
-    const std::vector<StressRow> rows =
-        runStressSuite(settings, [&](const StressRow& row) { printStressRow(row, options.quiet); });
+    if (!options.quiet) std::printf("%s\n", stressTableHeader().c_str());
+    const std::vector<StressRow> rows = runStressSuite(settings, [&](const StressRow& row) {
+        if (options.quiet && row.pass) return;
+        std::printf("%s\n", stressTableRow(row).c_str());
+        std::fflush(stdout);
+    });
     const double seconds = secondsSince(start);
     std::size_t failures = 0;
     for (const StressRow& row : rows)
@@ -95,11 +54,140 @@ int runStress(const CommonOptions& options, const BenchOptions& bench) {
     return 0;
 }
 
+Expected<int> runSweep(const CommonOptions& options, const BenchOptions& bench) {
+    if (options.scenePath.empty())
+        return Error{"daisy bench: give a SCENE to sweep, or --stress for the stress suite"};
+    SweepOptions sweepOptions;
+    sweepOptions.session = sessionSettingsFrom(options, PatchSizeDefault::InputTriangles);
+    sweepOptions.quick = bench.quick;
+    const SweepFiles files = sweepFiles(options.scenePath, bench.outputPath, options.cacheDir);
+    auto sweep = SettingsSweep::open(sweepOptions);
+    if (!sweep) return sweep.error();
+    auto reference = sweep->reference(files.referenceCache);
+    if (!reference) return reference.error();
+    logInfo(concat("bench: reference is ",
+                   reference->analytic ? "the analytic furnace solution" : "the converged solution",
+                   " (", formatCount(reference->patches), " patches, ", reference->samples,
+                   " wavelengths, ", formatNumber(reference->seconds, 3), " s)"));
+
+    std::vector<SweepRow> rows;
+    logInfo(
+        "  setting                          time s   F s      solve s  peak MB  mean dE00  "
+        "rms B     rms Y");
+    for (const SweepSetting& setting : sweep->settings()) {
+        const SweepRow& row = rows.emplace_back(sweep->run(setting));
+        if (!row.error.empty()) {
+            logWarning(concat("bench: ", row.label, ": ", row.error));
+            continue;
+        }
+        char line[256];
+        std::snprintf(line, sizeof line,
+                      "  %-32s %-8.3f %-8.3f %-8.3f %-8.0f %-10.3f %-9.2e %-9.2e",
+                      concat(row.axis == "default" ? "" : row.axis + " ", row.label).c_str(),
+                      row.totalSeconds, row.formFactorSeconds, row.solveSeconds,
+                      row.peakBytes / 1e6, row.meanDeltaE, row.relativeRmsB, row.relativeRmsY);
+        logInfo(line);
+    }
+    const int cheapest = markParetoFront(rows);
+    if (auto written = sweep->writeFiles(files, rows); !written) {
+        logError(written.error().message);
+        return 1;
+    }
+    logInfo(concat("bench: wrote ", files.csv, ", ", files.chart, " and ", files.referenceImage));
+    if (cheapest >= 0) {
+        const SweepRow& row = rows[std::size_t(cheapest)];
+        logInfo(concat("bench: cheapest setting under the just-noticeable difference: ", row.axis,
+                       " ", row.label, " (", formatNumber(row.totalSeconds, 3), " s, mean dE00 ",
+                       formatNumber(row.meanDeltaE, 3), ")"));
+    } else {
+        logInfo("bench: no setting is under the just-noticeable difference");
+    }
+    for (const SweepRow& row : rows)
+        if (!row.error.empty()) return 1;
+    return 0;
+}
+
+Expected<int> runPathBench(const CommonOptions& options, const BenchOptions& bench) {
+    if (options.scenePath.empty()) return Error{"daisy bench --reference path: give a SCENE"};
+    PathBenchOptions benchOptions;
+    benchOptions.session = sessionSettingsFrom(options, PatchSizeDefault::Automatic);
+    benchOptions.quick = bench.quick;
+    benchOptions.referenceSpp = bench.referenceSpp;
+    benchOptions.referenceNoisePercent = bench.referenceNoise;
+    auto pathBench = PathBench::open(benchOptions);
+    if (!pathBench) return pathBench.error();
+    const auto failed = [](const Error& error) {
+        logError(error.message);
+        return 1;
+    };
+    if (auto prepared = pathBench->prepare(); !prepared) return failed(prepared.error());
+    const PathBenchFiles files =
+        pathBenchFiles(options.scenePath, bench.outputPath, options.cacheDir);
+    auto reference = pathBench->reference(files.referenceCache);
+    if (!reference) return reference.error();
+    logInfo(concat("bench: reference ", reference->spp, " spp, ",
+                   formatNumber(reference->seconds, 3), " s, relative RMS noise ",
+                   formatNumber(100 * reference->noise, 3),
+                   "% (emitter pixels and 2 around them left out)"));
+
+    const auto report = [](const PathBenchRow& row) {
+        char line[256];
+        std::snprintf(line, sizeof line, "  %-9s %-26s %9.3f %8llu %9.2f%% %9.2f%% %8.3f %8.3f",
+                      row.kind.c_str(), row.label.c_str(), row.seconds,
+                      static_cast<unsigned long long>(row.patches),
+                      100 * row.error.relativeRmsYDenoised, 100 * row.error.relativeRmsY,
+                      row.error.meanDeltaE76, row.error.meanDeltaE2000);
+        logInfo(line);
+    };
+    logInfo(
+        "  kind      setting                       time s  patches  rms Y     rms Y raw  dE76     "
+        "dE00");
+    std::vector<PathBenchRow> rows;
+    if (auto ran = pathBench->runPathRows(rows, report); !ran) return failed(ran.error());
+    if (auto ran = pathBench->runRadiosityRows(files, rows, report); !ran)
+        return failed(ran.error());
+    if (auto written = pathBench->writeFiles(files, rows); !written) return failed(written.error());
+
+    bool extrapolated = false;
+    const double pathTo2 = pathTimeTo(rows, kPathBenchTargetError, extrapolated);
+    logInfo(concat("bench: wrote ", files.csv, "; the path tracer reaches ",
+                   formatNumber(100 * kPathBenchTargetError), "% in ", formatNumber(pathTo2, 3),
+                   " s", extrapolated ? " (extrapolated from its last row as 1 / sqrt(time))" : "",
+                   "; 1/20 of that is ", formatNumber(pathTo2 / 20, 3), " s"));
+    return 0;
+}
+
 }  // namespace
 
-int runBench(const CommonOptions& options, const BenchOptions& bench) {
-    if (bench.stress) return runStress(options, bench);
-    return bench.reference == "path" ? runPathBench(options, bench) : runSweep(options, bench);
+void addBenchCommand(CLI::App& app, CommandContext& context) {
+    auto bench = std::make_shared<BenchOptions>();
+    CLI::App* command =
+        context.add(app, "bench", "Benchmark run time against error", /*sceneRequired=*/false);
+    command->add_flag("--stress", bench->stress, "Run the numerical stress suite");
+    command->add_flag("--quick", bench->quick, "Reduced sizes (what ctest runs)");
+    command->add_option("-o,--output", bench->outputPath, "CSV of the results");
+    command
+        ->add_option("--reference", bench->reference,
+                     "What error is measured against: path (the path-traced reference) or daisy "
+                     "(the settings sweep against a converged fine solution)")
+        ->check(CLI::IsMember({"daisy", "path"}))
+        ->capture_default_str();
+    command
+        ->add_option("--reference-spp", bench->referenceSpp,
+                     "Samples per pixel of the path-traced reference (at most; traced in chunks "
+                     "of 1,024, cached and resumed)")
+        ->check(CLI::Range(1, 1 << 20))
+        ->capture_default_str();
+    command
+        ->add_option("--reference-noise", bench->referenceNoise,
+                     "Percent: stop the path-traced reference once its relative RMS noise is "
+                     "under this (0: run to --reference-spp)")
+        ->check(CLI::Range(0.0, 100.0))
+        ->capture_default_str();
+    context.onRun(command, [&common = context.common, bench]() -> Expected<int> {
+        if (bench->stress) return runStress(common, *bench);
+        return bench->reference == "path" ? runPathBench(common, *bench) : runSweep(common, *bench);
+    });
 }
 
 }  // namespace daisy::app

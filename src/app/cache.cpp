@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "app/commands.h"
@@ -105,9 +106,7 @@ int finish(const CachePruneReport& report, const char* verb) {
     return report.failures.empty() ? 0 : 1;
 }
 
-}  // namespace
-
-CLI::App* addCacheCommand(CLI::App& app, CacheOptions& options) {
+CLI::App* addCacheOptions(CLI::App& app, CacheOptions& options) {
     auto* command = app.add_subcommand(
         "cache", "List, clear or prune the form-factor cache (least recently used first)");
     command
@@ -145,6 +144,14 @@ int runCache(const CacheOptions& options) {
     }
     std::printf("cache folder %s, limit %s: ", folder.string().c_str(), limit.text.c_str());
     return finish(pruneCacheFolder(folder, limit.bytes), "evicted");
+}
+
+}  // namespace
+
+void addCacheCommand(CLI::App& app, CommandContext& context) {
+    auto options = std::make_shared<CacheOptions>();
+    CLI::App* command = addCacheOptions(app, *options);
+    context.onRun(command, [options]() -> Expected<int> { return runCache(*options); });
 }
 
 }  // namespace daisy::app

@@ -64,8 +64,6 @@ void printVerboseStats(const FormFactorStats& s) {
                       " slots"));
 }
 
-}  // namespace
-
 int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
     auto reserved = reserveOutputs({exports.matrixPath, exports.patchesPath});
     if (!reserved) {
@@ -119,6 +117,17 @@ int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
                    " rays cast"));
     printVerboseStats(stats);
     return 0;
+}
+
+}  // namespace
+
+void addFormFactorsCommand(CLI::App& app, CommandContext& context) {
+    auto exports = std::make_shared<ExportOptions>();
+    CLI::App* command = context.add(app, "formfactors", "Compute the view-factor matrix");
+    command->add_option("-o,--output", exports->matrixPath, "Matrix Market file")->required();
+    command->add_option("--patches-out", exports->patchesPath, "Write patches as CSV");
+    context.onRun(command,
+                  [&common = context.common, exports] { return runFormFactors(common, *exports); });
 }
 
 }  // namespace daisy::app

@@ -52,8 +52,6 @@ std::string lightList(const Scene& scene) {
     return out;
 }
 
-}  // namespace
-
 int runInfo(const CommonOptions& options) {
     // The same patches `render` makes: its automatic size unless --subdivide says otherwise.
     auto session = openSession(options, PatchSizeDefault::Automatic);
@@ -114,6 +112,13 @@ int runInfo(const CommonOptions& options) {
                    ": a form-factor build would be refused; ", session->memoryAdvice()));
     }
     return 0;
+}
+
+}  // namespace
+
+void addInfoCommand(CLI::App& app, CommandContext& context) {
+    CLI::App* command = context.add(app, "info", "Describe a scene and the cost of solving it");
+    context.onRun(command, [&common = context.common] { return runInfo(common); });
 }
 
 int notBuiltYet(const char* command, const char* stage) {

@@ -103,8 +103,8 @@ struct BenchOptions {
     bool stress = false;  // the numerical stress suite instead of the time/error sweep
     bool quick = false;  // reduced sizes (what ctest runs)
     std::string outputPath;  // CSV
-    // path (the default): against the path-traced reference (bench_path.h); daisy: the
-    // settings sweep against a converged high-setting daisy solution (bench_sweep.h)
+    // path (the default): against the path-traced reference (bench/path_bench.h); daisy: the
+    // settings sweep against a converged high-setting daisy solution (bench/sweep.h)
     std::string reference = "path";
     int referenceSpp = 4096;  // samples per pixel of the path-traced reference (at most)
     double referenceNoise = 0;  // percent: the reference stops once its noise is under it

@@ -185,8 +185,6 @@ int pathTracedRender(const CommonOptions& options, const RenderOptions& render,
     return 0;
 }
 
-}  // namespace
-
 int runRender(const CommonOptions& options, const RenderOptions& render) {
     const Timer total;
     const ImageFormat format = formatOf(render.outputPath);
@@ -324,6 +322,80 @@ int runRender(const CommonOptions& options, const RenderOptions& render) {
     }
     logInfo(concat("  peak memory: ", formatBytes(double(peakResidentBytes()))));
     return 0;
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& app, CommandContext& context) {
+    auto render = std::make_shared<RenderOptions>();
+    CLI::App* command = context.add(app, "render", "Solve a scene and render it to an image");
+    command->add_option("-o,--output", render->outputPath, "Image file (.png, .exr, .pfm)")
+        ->check([](const std::string& path) {
+            for (const char* ext : {".png", ".exr", ".pfm"}) {
+                if (path.size() > 4 && path.compare(path.size() - 4, 4, ext) == 0) return "";
+            }
+            return "the image must end in .png, .exr or .pfm";
+        })
+        ->capture_default_str();
+    command->add_option("--width", render->width, "Image width")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 16384));
+    command
+        ->add_option("--height", render->height,
+                     "Image height (default: width / the camera's aspect ratio, else 3/4)")
+        ->check(CLI::Range(1, 16384));
+    command->add_option("--camera", render->camera, "Camera name or index");
+    command->add_option("--spp", render->samplesPerPixel, "Samples per pixel")
+        ->check(CLI::Range(1, 4096));
+    command
+        ->add_option("--edge-spp", render->edgeSamplesPerPixel,
+                     "Samples per pixel on silhouettes, creases and material boundaries "
+                     "(radiosity; 0 = --spp everywhere)")
+        ->check(CLI::Range(0, 4096))
+        ->capture_default_str();
+    command->add_option("--exposure", render->exposure, "Exposure in EV, or auto")
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                return text == "auto" || CLI::Number(text).empty()
+                    ? std::string()
+                    : "'" + text + "' is not an exposure: use a number of EV or auto";
+            },
+            "EV|auto"));
+    command->add_flag("--spectral-exr", render->spectralExr,
+                      "EXR with one channel per wavelength sample (Fichet et al. 2021)");
+    command->add_option("--background", render->background, "R,G,B of rays that miss, 0..1")
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                return parseBackground(text) ? std::string()
+                                             : "'" + text + "' is not R,G,B with values in [0, 1]";
+            },
+            "R,G,B"))
+        ->capture_default_str();
+    command
+        ->add_option("--integrator", render->integrator,
+                     "radiosity, or path: the path-traced reference (no view factors)")
+        ->check(CLI::IsMember({"radiosity", "path"}))
+        ->capture_default_str();
+    command
+        ->add_option("--gather", render->gather,
+                     "Final gather: none (smooth vertex radiance), direct (exact direct light "
+                     "per sample) or near (direct, plus the indirect light from patches within "
+                     "--near-radius per sample)")
+        ->check(CLI::IsMember({"none", "direct", "near"}))
+        ->capture_default_str();
+    command
+        ->add_option("--near-radius", render->nearRadius,
+                     "Radius of --gather near's per-sample indirect light, in patch sizes")
+        ->check(CLI::Range(0.0, 16.0))
+        ->capture_default_str();
+    command
+        ->add_option(
+            "--gather-rays", render->gatherRays,
+            "Shadow segments per penumbra pixel of the direct gather (1/16 of it elsewhere)")
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
+    context.onRun(command,
+                  [&common = context.common, render] { return runRender(common, *render); });
 }
 
 }  // namespace daisy::app

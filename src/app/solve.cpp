@@ -76,8 +76,6 @@ Expected<void> writeSolvedPatches(const std::string& path, const Session& sessio
     return writePatchCsv(path, session.patches(), names, extra);
 }
 
-}  // namespace
-
 int runSolve(const CommonOptions& options, const ExportOptions& exports) {
     auto reserved = reserveOutputs({exports.patchesPath});
     if (!reserved) {
@@ -101,6 +99,16 @@ int runSolve(const CommonOptions& options, const ExportOptions& exports) {
         }
     }
     return 0;
+}
+
+}  // namespace
+
+void addSolveCommand(CLI::App& app, CommandContext& context) {
+    auto exports = std::make_shared<ExportOptions>();
+    CLI::App* command = context.add(app, "solve", "Solve spectral radiosity");
+    command->add_option("--patches-out", exports->patchesPath, "Write patches as CSV");
+    context.onRun(command,
+                  [&common = context.common, exports] { return runSolve(common, *exports); });
 }
 
 }  // namespace daisy::app

@@ -26,8 +26,6 @@ std::string place(const EntryDifference& d) {
     return concat("(", d.row, ", ", d.column, ")");
 }
 
-}  // namespace
-
 int runValidate(const CommonOptions& options, const ValidateOptions& validate) {
     // Both matrices are built here, never read from the cache: comparing them is the point.
     auto session = openSession(options, PatchSizeDefault::InputTriangles);
@@ -87,6 +85,30 @@ int runValidate(const CommonOptions& options, const ValidateOptions& validate) {
     std::printf("validate: %s\n", c.overTolerance == 0 ? "within tolerance" : "OVER TOLERANCE");
     std::fflush(stdout);
     return c.overTolerance == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+void addValidateCommand(CLI::App& app, CommandContext& context) {
+    auto validate = std::make_shared<ValidateOptions>();
+    CLI::App* command = context.add(app, "validate", "Compare a backend's matrix to another's");
+    command->add_option("--against", validate->against, "Backend to compare with")
+        ->check(CLI::IsMember({"reference", "cpu"}))
+        ->capture_default_str();
+    command->add_option("--rtol", validate->relativeTolerance, "Relative tolerance per entry")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    command->add_option("--atol", validate->absoluteTolerance, "Absolute tolerance per entry")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    command->add_option("--worst", validate->worstShown, "Worst entries to list")
+        ->check(CLI::Range(0, 1000000))
+        ->capture_default_str();
+    context.onRun(command, [&common = context.common, validate]() -> Expected<int> {
+        if (common.backend != "vulkan" && common.backend != "cuda")
+            return Error{"daisy validate: --backend must be vulkan or cuda"};
+        return runValidate(common, *validate);
+    });
 }
 
 }  // namespace daisy::app

@@ -18,6 +18,7 @@
 #endif
 
 namespace daisy::app {
+namespace {
 
 int runView(const CommonOptions& options, const ViewOptions& view) {
 #if DAISY_HAVE_VIEWER
@@ -81,6 +82,43 @@ int runView(const CommonOptions& options, const ViewOptions& view) {
     (void)view;
     return notBuiltYet("view", "the viewer (this build has DAISY_BUILD_VIEWER=OFF)");
 #endif
+}
+
+}  // namespace
+
+void addViewCommand(CLI::App& app, CommandContext& context) {
+    auto view = std::make_shared<ViewOptions>();
+    CLI::App* command = context.add(app, "view", "Interactive viewer with a materials editor");
+    command->add_option("--screenshot", view->screenshotPath, "Save a PNG of the last frame");
+    command->add_option("--frames", view->frames, "Frames to show, then exit")
+        ->check(CLI::Range(1, 1000000));
+    command->add_option("--camera", view->camera, "Camera name or index");
+    command->add_option("--width", view->width, "Window width")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 16384));
+    command->add_option("--height", view->height, "Window height")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 16384));
+    command->add_option("--exposure", view->exposure, "Exposure in EV, or auto")
+        ->capture_default_str();
+    command->add_option("--edit", view->edits, "Material edit NAME.FIELD=VALUE (repeatable)");
+    command->add_flag("--exercise-window", view->exerciseWindow,
+                      "Resize and minimise the window during the frames (tests)");
+    command->add_flag("--panel", view->panel, "Show the panel in the --frames mode too");
+    command->add_option(
+        "--display", view->display,
+        "colour | luminance | wavelength:NM, and flat, wireframe (comma-separated)");
+    command->add_option("--pick", view->pick, "Pick the patch under pixel X,Y as a click would")
+        ->check(CLI::Validator(
+            [](std::string& text) {
+                int x = 0, y = 0;
+                char end = 0;
+                return std::sscanf(text.c_str(), "%d,%d%c", &x, &y, &end) == 2 && x >= 0 && y >= 0
+                    ? std::string()
+                    : "'" + text + "' is not X,Y (pixels)";
+            },
+            "X,Y"));
+    context.onRun(command, [&common = context.common, view] { return runView(common, *view); });
 }
 
 }  // namespace daisy::app

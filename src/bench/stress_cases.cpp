@@ -1,9 +1,9 @@
-// The numerical stress suite (stress.h). Every case builds its geometry in code, runs the real
-// pipeline and measures one error against a closed form (Howell, "A Catalog of Radiation Heat
-// Transfer Configuration Factors", 3rd ed., cases B-3, C-11, C-14), a double-precision
+// The stress suite's cases (stress_cases.h). Every case builds its geometry in code, runs the
+// real pipeline and measures one error against a closed form (Howell, "A Catalog of Radiation
+// Heat Transfer Configuration Factors", 3rd ed., cases B-3, C-11, C-14), a double-precision
 // quadrature of the exact point-to-polygon factor (both in verify/closed_forms.h), or a
 // conservation law. Over 400 lines because each case is short but there are many.
-#include "app/stress.h"
+#include "bench/stress_cases.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,20 +14,19 @@
 #include "core/strings.h"
 #include "core/timer.h"
 #include "geometry/patch_mesh.h"
-#include "pipeline/backend_registry.h"
 #include "pipeline/session.h"
 #include "radiosity/energy.h"
 #include "radiosity/form_factors.h"
-#include "radiosity/matrix_transport.h"
 #include "radiosity/radiosity_system.h"
 #include "radiosity/solver.h"
+#include "radiosity/matrix_transport.h"
 #include "spectral/fluorescence.h"
 #include "spectral/wavelength_set.h"
 #include "spectral/wavelength_spec.h"
 #include "verify/closed_forms.h"
 #include "verify/scenes.h"
 
-namespace daisy::app {
+namespace daisy::stress {
 namespace {
 
 using verify::addGrid;
@@ -38,55 +37,6 @@ using verify::parallelRectangles;
 using verify::perpendicularRectangles;
 using verify::smallSquareToPlane;
 constexpr double kPi = std::numbers::pi;
-
-// ---- running the pipeline ----
-
-struct Context {
-    const StressSettings& settings;
-    std::string backendName = "-";  // "-" for solver-only cases
-    std::shared_ptr<Backend> backend;  // shared by the cases' sessions (one Vulkan device)
-};
-
-struct Built {
-    PatchMesh mesh;
-    std::shared_ptr<const Transport> f;  // the transport built: F
-    std::string error;  // non-empty when the pipeline refused the input
-};
-
-// The mesh through the session, as every front end runs it: patches at maxEdge, then F on the
-// context's backend (no disk cache: every case measures its own build). The cases bring their
-// own radiosity systems (exact operators, unit bins), so the session's default materials only
-// make the scene complete.
-Built buildAll(const Context& context, const TriangleMesh& triangles, double maxEdge = 0) {
-    Built built;
-    Scene scene;
-    scene.path = "stress";
-    scene.mesh = triangles;
-    uint32_t materials = 1;
-    for (uint32_t material : triangles.materials)
-        materials = std::max(materials, material + 1);
-    for (uint32_t k = 0; k < materials; ++k) {
-        Material material;
-        material.name = concat("m", k);
-        material.origin = concat("stress: material ", k);
-        scene.materials.push_back(material);
-    }
-    SessionSettings settings;
-    settings.backend = context.backendName;
-    settings.backendInstance = context.backend;
-    settings.subdivideMaxEdge = maxEdge;
-    settings.formFactors.threads = context.settings.threads;
-    settings.formFactors.progress = false;
-    settings.wavelengths = *parseWavelengthSpec("550");
-    settings.wavelengthsText = "550";
-    settings.logStages = false;
-    auto session = Session::fromScene(std::move(scene), std::move(settings));
-    if (!session) return built.error = session.error().message, built;
-    if (auto f = session->buildFormFactors(); !f) return built.error = f.error().message, built;
-    built.mesh = session->patches();
-    built.f = session->sharedTransport();
-    return built;
-}
 
 bool allFinite(std::span<const double> values) {
     return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
@@ -137,7 +87,40 @@ bool failed(StressRow& row, const std::string& message) {
     return true;
 }
 
-// ---- cases ----
+}  // namespace
+
+// No disk cache: every case measures its own build. The cases bring their own radiosity systems
+// (exact operators, unit bins), so the session's default materials only make the scene complete.
+Built buildAll(const Context& context, const TriangleMesh& triangles, double maxEdge) {
+    Built built;
+    Scene scene;
+    scene.path = "stress";
+    scene.mesh = triangles;
+    uint32_t materials = 1;
+    for (uint32_t material : triangles.materials)
+        materials = std::max(materials, material + 1);
+    for (uint32_t k = 0; k < materials; ++k) {
+        Material material;
+        material.name = concat("m", k);
+        material.origin = concat("stress: material ", k);
+        scene.materials.push_back(material);
+    }
+    SessionSettings settings;
+    settings.backend = context.backendName;
+    settings.backendInstance = context.backend;
+    settings.subdivideMaxEdge = maxEdge;
+    settings.formFactors.threads = context.settings.threads;
+    settings.formFactors.progress = false;
+    settings.wavelengths = *parseWavelengthSpec("550");
+    settings.wavelengthsText = "550";
+    settings.logStages = false;
+    auto session = Session::fromScene(std::move(scene), std::move(settings));
+    if (!session) return built.error = session.error().message, built;
+    if (auto f = session->buildFormFactors(); !f) return built.error = f.error().message, built;
+    built.mesh = session->patches();
+    built.f = session->sharedTransport();
+    return built;
+}
 
 // Closed box: every row of F sums to 1 (DESIGN.md section 2).
 StressRow closedBoxRowSums(const Context& context, std::string name, Vec3d size, int n) {
@@ -201,8 +184,7 @@ StressRow furnaceExact(const Context& context, double rho) {
     StressRow row =
         rowFor(context, concat("furnace exact F rho=", formatNumber(rho)), "B = E/(1-rho) exactly");
     const uint32_t n = 65;
-    const auto f =
-        denseTransport(n, [](uint32_t i, uint32_t j) { return i == j ? 0.0f : 1.0f / 64; });
+    const auto f = denseTransport(n, [](uint32_t i, uint32_t j) { return i == j ? 0.0f : 1.0f / 64; });
     RadiositySystem system =
         systemFor(std::vector<double>(n, 1.0), {550}, {1}, {greyOperator(rho)});
     std::fill(system.emission.begin(), system.emission.end(), 1.0);
@@ -434,59 +416,4 @@ StressRow longRow(const Context& context, int k) {
     return row;
 }
 
-template <typename Case>
-void run(std::vector<StressRow>& rows, const std::function<void(const StressRow&)>& onRow,
-         Case&& body) {
-    const auto start = Clock::now();
-    StressRow row = body();
-    row.seconds = secondsSince(start);
-    if (!row.finite) row.pass = false;
-    onRow(row);
-    rows.push_back(std::move(row));
-}
-
-}  // namespace
-
-std::vector<StressRow> runStressSuite(const StressSettings& settings,
-                                      const std::function<void(const StressRow&)>& onRow) {
-    std::vector<StressRow> rows;
-    const bool quick = settings.quick;
-    std::vector<std::shared_ptr<Backend>> backends;
-    // Every backend that can run here (vulkan on whatever device exists: lavapipe in CI).
-    for (const std::string& name : builtInBackendNames())
-        if (auto backend = makeBackend(name)) backends.push_back(std::move(*backend));
-    const Context solverOnly{settings, "-", nullptr};
-    for (const auto& backend : backends) {
-        const Context c{settings, backend->name(), backend};
-        run(rows, onRow, [&] {
-            return closedBoxRowSums(c, "closed cube", {1, 1, 1}, quick ? 4 : 8);
-        });
-        run(rows, onRow, [&] {
-            return closedBoxRowSums(c, "sliver box 1 x 1e-4 x 1e-4", {1, 1e-4, 1e-4}, 1);
-        });
-        for (double rho : {0.99, 0.999})
-            run(rows, onRow, [&] { return furnace(c, rho, quick ? 3 : 6); });
-        const Built unit = buildAll(c, scaledRoom(1));
-        for (double scale : {1e-3, 1e-2, 1e-1, 1e1, 1e2, 1e3, 1e4})
-            run(rows, onRow, [&] { return scaleInvariance(c, scale, unit); });
-        run(rows, onRow, [&] { return sliverStrips(c); });
-        // gap 1e-3 fails (an open problem, docs/performance.md): full suite only, so ctest
-        // guards what passes.
-        if (!quick) run(rows, onRow, [&] { return nearlyCoincident(c, 1e-3, 4); });
-        run(rows, onRow, [&] { return nearlyCoincident(c, 1e-6, quick ? 1 : 4); });
-        for (double degrees : {1.0, 179.0})
-            run(rows, onRow, [&] { return sharedEdge(c, degrees, quick ? 2 : 6); });
-        run(rows, onRow, [&] { return coplanar(c, quick ? 6 : 20); });
-        run(rows, onRow, [&] { return fluorescentChain(c, quick ? 3 : 6); });
-        // The pair-kernel backends (reference, vulkan) evaluate all n^2 / 2 pairs (no cluster
-        // culling): 5e9 at 1e5 patches took the reference over 20 minutes, so they get the
-        // reduced row.
-        const bool fullRow = !quick && c.backendName == "cpu";
-        run(rows, onRow, [&] { return longRow(c, fullRow ? 224 : 71); });
-    }
-    for (double rho : {0.99, 0.999})
-        run(rows, onRow, [&] { return furnaceExact(solverOnly, rho); });
-    return rows;
-}
-
-}  // namespace daisy::app
+}  // namespace daisy::stress
