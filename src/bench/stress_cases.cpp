@@ -17,9 +17,9 @@
 #include "pipeline/session.h"
 #include "radiosity/energy.h"
 #include "radiosity/form_factors.h"
+#include "radiosity/matrix_transport.h"
 #include "radiosity/radiosity_system.h"
 #include "radiosity/solver.h"
-#include "radiosity/matrix_transport.h"
 #include "spectral/fluorescence.h"
 #include "spectral/wavelength_set.h"
 #include "spectral/wavelength_spec.h"
@@ -184,7 +184,8 @@ StressRow furnaceExact(const Context& context, double rho) {
     StressRow row =
         rowFor(context, concat("furnace exact F rho=", formatNumber(rho)), "B = E/(1-rho) exactly");
     const uint32_t n = 65;
-    const auto f = denseTransport(n, [](uint32_t i, uint32_t j) { return i == j ? 0.0f : 1.0f / 64; });
+    const auto f =
+        denseTransport(n, [](uint32_t i, uint32_t j) { return i == j ? 0.0f : 1.0f / 64; });
     RadiositySystem system =
         systemFor(std::vector<double>(n, 1.0), {550}, {1}, {greyOperator(rho)});
     std::fill(system.emission.begin(), system.emission.end(), 1.0);

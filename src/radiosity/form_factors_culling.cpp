@@ -6,7 +6,7 @@
 #include <algorithm>
 
 #include "core/timer.h"
-#include "radiosity/ray_caster.h"
+#include "raycast/ray_caster.h"
 
 namespace daisy::detail {
 

@@ -6,7 +6,7 @@
 #include "core/expected.h"
 #include "geometry/patch_mesh.h"
 #include "radiosity/form_factors.h"
-#include "radiosity/ray_caster.h"
+#include "raycast/ray_caster.h"
 
 namespace daisy::detail {
 
