@@ -145,7 +145,7 @@ Expected<PathReferenceSummary> PathBench::reference(const std::string& cachePath
     const int chunkSpp = std::min(total, options.quick ? kQuickChunkSpp : kChunkSpp);
     const int chunks = (total + chunkSpp - 1) / chunkSpp;
     const double noiseTarget = options.referenceNoisePercent / 100;
-    const uint64_t key = pathbench::referenceKey(
+    const Hash128 key = pathbench::referenceKey(
         options.session.scenePath,
         concat(size, " ", chunkSpp, " ", kReferenceSeed, " ", s.first->wavelengths().name(), " ",
                s.first->wavelengths().size()));

@@ -1,71 +1,61 @@
-// The path-traced reference's chunk sums and cache file (path_reference.h). Layout: magic,
-// key, width, height, chunks (int32), seconds, the X Y Z sums and the variance sums (doubles).
+// The path-traced reference's chunk sums and cache file (path_reference.h), in the cache-file
+// layer (core/cache_file.h): detail = chunks, counts = width and height; payload: seconds, the
+// X Y Z sums and the variance sums (doubles).
 #include "bench/path_reference.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <fstream>
 #include <iterator>
 
-#include "core/atomic_file.h"
+#include "core/cache_file.h"
 #include "pathtrace/path_tracer.h"
 
 namespace daisy::pathbench {
 namespace {
 
-constexpr char kMagic[8] = {'D', 'R', 'P', 'T', 'R', 'E', 'F', '2'};
+const CacheFileFormat kFormat{
+    {'D', 'A', 'I', 'S', 'Y', 'P', 'T', 'R'}, 1, "path-traced reference cache file"};
 
 }  // namespace
 
-uint64_t referenceKey(const std::string& scenePath, const std::string& settings) {
-    uint64_t hash = 14695981039346656037ull;
-    const auto mix = [&](const std::string& bytes) {
-        for (unsigned char c : bytes)
-            hash = (hash ^ c) * 1099511628211ull;
-    };
+Hash128 referenceKey(const std::string& scenePath, const std::string& settings) {
+    Fnv1a128 hash;
     std::ifstream file(scenePath, std::ios::binary);
-    mix(std::string(std::istreambuf_iterator<char>(file), {}));
-    mix(settings);
-    return hash;
+    const std::string bytes(std::istreambuf_iterator<char>(file), {});
+    hash.updateText(bytes);
+    hash.updateText(settings);
+    return hash.digest();
 }
 
-bool readReference(const std::string& path, uint64_t key, int width, int height, Reference& r) {
-    std::ifstream in(path, std::ios::binary);
-    char magic[8];
-    uint64_t stored = 0;
-    int32_t header[3];
-    if (!in.read(magic, 8) || !std::equal(magic, magic + 8, kMagic)) return false;
-    if (!in.read(reinterpret_cast<char*>(&stored), 8) || stored != key) return false;
-    if (!in.read(reinterpret_cast<char*>(header), 12) || header[0] != width ||
-        header[1] != height || header[2] < 1)
+bool readReference(const std::string& path, const Hash128& key, int width, int height,
+                   Reference& r) {
+    CacheFileReader in = CacheFileReader::open(path, kFormat, key);
+    if (in.status() != CacheFileReader::Status::Open) return false;
+    const CacheFileHeader& header = in.header();
+    if (header.counts[0] != uint64_t(width) || header.counts[1] != uint64_t(height) ||
+        header.detail < 1)
         return false;
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
     Reference read;
-    read.chunks = header[2];
-    read.xyzSum.resize(pixels * 3);
-    read.varianceSum.resize(pixels);
-    in.read(reinterpret_cast<char*>(&read.seconds), 8);
-    in.read(reinterpret_cast<char*>(read.xyzSum.data()),
-            std::streamsize(read.xyzSum.size() * sizeof(double)));
-    in.read(reinterpret_cast<char*>(read.varianceSum.data()),
-            std::streamsize(read.varianceSum.size() * sizeof(double)));
-    if (!in) return false;
+    read.chunks = int(header.detail);
+    if (!in.read(&read.seconds, sizeof read.seconds) || !in.readArray(read.xyzSum, pixels * 3) ||
+        !in.readArray(read.varianceSum, pixels) || !in.finish().empty())
+        return false;
     r = std::move(read);
     return true;
 }
 
-Expected<void> writeReference(const std::string& path, uint64_t key, int width, int height,
+Expected<void> writeReference(const std::string& path, const Hash128& key, int width, int height,
                               const Reference& r) {
-    return writeFileAtomically(path, [&](std::FILE* out) {
-        const int32_t header[3] = {width, height, r.chunks};
-        std::fwrite(kMagic, 1, 8, out);
-        std::fwrite(&key, 8, 1, out);
-        std::fwrite(header, 4, 3, out);
-        std::fwrite(&r.seconds, 8, 1, out);
-        std::fwrite(r.xyzSum.data(), sizeof(double), r.xyzSum.size(), out);
-        std::fwrite(r.varianceSum.data(), sizeof(double), r.varianceSum.size(), out);
-        return std::string();
-    });
+    CacheFileHeader header;
+    header.magic = kFormat.magic;
+    header.version = kFormat.version;
+    header.detail = uint32_t(r.chunks);
+    header.key = key;
+    header.counts = {uint64_t(width), uint64_t(height)};
+    const std::span<const std::byte> payload[] = {bytesOf(r.seconds), bytesOf(r.xyzSum),
+                                                  bytesOf(r.varianceSum)};
+    return writeCacheFile(path, header, payload);
 }
 
 void finishReference(Reference& r, int width, int height, const std::vector<uint8_t>& mask) {

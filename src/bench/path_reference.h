@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cache_file.h"
 #include "core/expected.h"
 #include "image/image.h"
 
@@ -21,12 +22,14 @@ struct Reference {
     double noise = 0;  // relative RMS noise over the kept pixels
 };
 
-// FNV-1a 64 of the scene file's bytes, then of `settings`.
-uint64_t referenceKey(const std::string& scenePath, const std::string& settings);
+// FNV-1a 128 of the scene file's bytes, then of `settings`.
+Hash128 referenceKey(const std::string& scenePath, const std::string& settings);
 
-// The cache: false (and `r` untouched) when the file is missing, another key's or another size's.
-bool readReference(const std::string& path, uint64_t key, int width, int height, Reference& r);
-Expected<void> writeReference(const std::string& path, uint64_t key, int width, int height,
+// The cache (core/cache_file.h): false (and `r` untouched) when the file is missing, damaged,
+// another key's or another size's.
+bool readReference(const std::string& path, const Hash128& key, int width, int height,
+                   Reference& r);
+Expected<void> writeReference(const std::string& path, const Hash128& key, int width, int height,
                               const Reference& r);
 
 // The mean of the chunks, its variance and its relative RMS noise over `mask`.

@@ -15,6 +15,7 @@
 
 #include "bench/sweep_measure.h"
 #include "core/atomic_file.h"
+#include "core/cache_file.h"
 #include "core/log.h"
 #include "core/memory.h"
 #include "core/strings.h"
@@ -43,8 +44,11 @@ constexpr int kImageHeight = 240;
 constexpr int kQuickImageWidth = 96;
 constexpr int kQuickImageHeight = 72;
 
-// Cache layout: magic, key, flags, m wavelengths, n patches, B, image size and XYZ, exposure.
-constexpr char kCacheMagic[8] = {'D', 'A', 'I', 'S', 'Y', 'R', 'F', '1'};
+// The reference's cache file (core/cache_file.h): detail = 1 for the analytic furnace answer,
+// counts = m wavelengths and n patches; payload: the wavelengths, B, the image size, its XYZ,
+// the exposure scale and the reference's seconds.
+const CacheFileFormat kReferenceFormat{
+    {'D', 'A', 'I', 'S', 'Y', 'R', 'F', 'S'}, 1, "bench reference cache file"};
 
 }  // namespace
 
@@ -141,76 +145,68 @@ struct SettingsSweep::State {
         return xyz;
     }
 
-    // FNV-1a 64 of the scene file's bytes and everything the reference depends on.
-    uint64_t referenceKey() const {
-        uint64_t hash = 14695981039346656037ull;
-        const auto mix = [&](const std::string& bytes) {
-            for (unsigned char c : bytes)
-                hash = (hash ^ c) * 1099511628211ull;
-        };
+    // FNV-1a 128 of the scene file's bytes and everything the reference depends on.
+    Hash128 referenceKey() const {
+        Fnv1a128 hash;
         std::ifstream file(scene.path, std::ios::binary);
-        mix(std::string(std::istreambuf_iterator<char>(file), {}));
+        hash.updateText(std::string(std::istreambuf_iterator<char>(file), {}));
         const char* convention =
             base().load.mtlConvention == MtlConvention::DaisyRiot ? "daisyriot" : "standard";
-        mix(concat("v1 L", kSweepReferenceLevel, " K", kSweepReferenceRays, " tol",
-                   kSweepReferenceTolerance, " seed", base().formFactors.seed, " edge",
-                   formatNumber(referenceMaxEdge, 17), " ", width, "x", height, " ", convention,
-                   " ", base().load.materialsPath));
-        return hash;
+        hash.updateText(concat("v1 L", kSweepReferenceLevel, " K", kSweepReferenceRays, " tol",
+                               kSweepReferenceTolerance, " seed", base().formFactors.seed, " edge",
+                               formatNumber(referenceMaxEdge, 17), " ", width, "x", height, " ",
+                               convention, " ", base().load.materialsPath));
+        return hash.digest();
     }
 
-    bool readReference(const std::string& path, uint64_t key);
-    Expected<void> writeReference(const std::string& path, uint64_t key) const;
+    bool readReference(const std::string& path, const Hash128& key);
+    Expected<void> writeReference(const std::string& path, const Hash128& key) const;
 };
 
-bool SettingsSweep::State::readReference(const std::string& path, uint64_t key) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return false;
-    char magic[8];
-    uint64_t storedKey = 0, m = 0, n = 0, flags = 0;
-    int32_t w = 0, h = 0;
-    in.read(magic, 8).read(reinterpret_cast<char*>(&storedKey), 8);
-    if (!in || !std::equal(magic, magic + 8, kCacheMagic) || storedKey != key) return false;
-    in.read(reinterpret_cast<char*>(&flags), 8).read(reinterpret_cast<char*>(&m), 8);
-    if (!in || m == 0 || m > 100000) return false;
-    std::vector<double> wavelengths(m);
-    in.read(reinterpret_cast<char*>(wavelengths.data()), std::streamsize(m * 8));
-    in.read(reinterpret_cast<char*>(&n), 8);
+bool SettingsSweep::State::readReference(const std::string& path, const Hash128& key) {
+    CacheFileReader in = CacheFileReader::open(path, kReferenceFormat, key);
+    if (in.status() != CacheFileReader::Status::Open) return false;
+    const uint64_t m = in.header().counts[0], n = in.header().counts[1];
+    if (m == 0 || m > 100000) return false;
     auto patches = buildPatchMesh(scene.mesh, referenceMaxEdge);
-    if (!in || !patches || n != patches->patchCount()) return false;
-    std::vector<double> radiosity(n * m);
-    in.read(reinterpret_cast<char*>(radiosity.data()), std::streamsize(n * m * 8));
-    in.read(reinterpret_cast<char*>(&w), 4).read(reinterpret_cast<char*>(&h), 4);
-    if (!in || w != width || h != height) return false;
+    if (!patches || n != patches->patchCount()) return false;
+    std::vector<double> wavelengths, radiosity;
+    int32_t w = 0, h = 0;
+    if (!in.readArray(wavelengths, m) || !in.readArray(radiosity, n * m) || !in.read(&w, 4) ||
+        !in.read(&h, 4) || w != width || h != height)
+        return false;
     Image xyz(w, h, 3);
-    in.read(reinterpret_cast<char*>(xyz.pixels.data()), std::streamsize(xyz.pixels.size() * 4));
     double scale = 0, seconds = 0;
-    in.read(reinterpret_cast<char*>(&scale), 8).read(reinterpret_cast<char*>(&seconds), 8);
+    if (!in.read(xyz.pixels.data(), xyz.pixels.size() * sizeof(float)) || !in.read(&scale, 8) ||
+        !in.read(&seconds, 8) || !in.finish().empty())
+        return false;
     auto set = WavelengthSet::fromWavelengths(wavelengths, "fine+uv");
-    if (!in || !set) return false;
+    if (!set) return false;
     reference =
         Solution{std::move(*patches), std::move(*set), std::move(radiosity), std::move(xyz)};
-    analytic = flags & 1;
+    analytic = in.header().detail & 1;
     exposureScale = scale;
     referenceSeconds = seconds;
     return true;
 }
 
-Expected<void> SettingsSweep::State::writeReference(const std::string& path, uint64_t key) const {
-    return writeFileAtomically(path, [&](std::FILE* f) -> std::string {
-        const auto put = [&](const void* data, std::size_t bytes) {
-            std::fwrite(data, 1, bytes, f);
-        };
-        const uint64_t flags = analytic ? 1 : 0, m = reference.set.size(),
-                       n = reference.patches.patchCount();
-        const int32_t w = reference.xyz.width, h = reference.xyz.height;
-        put(kCacheMagic, 8), put(&key, 8), put(&flags, 8), put(&m, 8);
-        put(reference.set.wavelengthsNm().data(), m * 8);
-        put(&n, 8), put(reference.radiosity.data(), n * m * 8);
-        put(&w, 4), put(&h, 4), put(reference.xyz.pixels.data(), reference.xyz.pixels.size() * 4);
-        put(&exposureScale, 8), put(&referenceSeconds, 8);
-        return "";
-    });
+Expected<void> SettingsSweep::State::writeReference(const std::string& path,
+                                                    const Hash128& key) const {
+    CacheFileHeader header;
+    header.magic = kReferenceFormat.magic;
+    header.version = kReferenceFormat.version;
+    header.detail = analytic ? 1 : 0;
+    header.key = key;
+    header.counts = {reference.set.size(), reference.patches.patchCount()};
+    const int32_t w = reference.xyz.width, h = reference.xyz.height;
+    const std::span<const std::byte> payload[] = {bytesOf(reference.set.wavelengthsNm()),
+                                                  bytesOf(reference.radiosity),
+                                                  bytesOf(w),
+                                                  bytesOf(h),
+                                                  bytesOf(reference.xyz.pixels),
+                                                  bytesOf(exposureScale),
+                                                  bytesOf(referenceSeconds)};
+    return writeCacheFile(path, header, payload);
 }
 
 SettingsSweep::SettingsSweep(std::unique_ptr<State> state) : state_(std::move(state)) {}
@@ -247,7 +243,7 @@ Expected<SettingsSweep> SettingsSweep::open(const SweepOptions& options) {
 Expected<SweepReference> SettingsSweep::reference(const std::string& cachePath) {
     State& s = *state_;
     SweepReference result;
-    const uint64_t key = s.referenceKey();
+    const Hash128 key = s.referenceKey();
     result.fromCache = s.readReference(cachePath, key);
     if (result.fromCache) {
         logInfo(concat("bench: reference read from ", cachePath));
