@@ -1,4 +1,4 @@
-// `daisy view SCENE` (issue 15, docs/viewer.md): the session (automatic patch size, F from the
+// `daisy view SCENE` (docs/viewer.md): the session (automatic patch size, F from the
 // cache or a backend, the solve), then the viewer (src/viewer/). Options that depend on the scene
 // (--camera, --edit) fail before the view factors.
 #include <cstdio>

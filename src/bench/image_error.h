@@ -1,8 +1,8 @@
 #pragma once
-// Image error against a reference image (issue 16): relative RMS of luminance and the mean
+// Image error against a reference image: relative RMS of luminance and the mean
 // CIE76 / CIEDE2000 colour differences as displayed, over the pixels a mask keeps. The mask
 // leaves out the emitters' pixels and a neighbourhood around them, where an image is mostly
-// light-source edge (what the issue's Cycles comparison left out too).
+// light-source edge (as a comparison with Cycles does too).
 #include <cstdint>
 #include <vector>
 

@@ -1,5 +1,5 @@
 #pragma once
-// SIGINT / SIGTERM for the command line and any front end that wants them (issue 14): the
+// SIGINT / SIGTERM for the command line and any front end that wants them: the
 // handler cancels the process-wide interruptToken() (long stages poll it, core/cancel.h) and
 // wakes a watchdog thread, which removes every registered temporary file (atomic_file.h
 // registers its temporaries here, a cache registers its partial entries), prints one line to

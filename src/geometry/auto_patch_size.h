@@ -1,5 +1,5 @@
 #pragma once
-// The patch size `daisy render` and `daisy view` use when --subdivide is not given (issue 6).
+// The patch size `daisy render` and `daisy view` use when --subdivide is not given.
 //
 // Rule: a patch budget of max(kAutoPatchBudget, T) patches for a scene of T triangles, and the
 // smallest maximum edge length whose patch count fits it, found by bisection on a log scale

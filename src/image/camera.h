@@ -1,5 +1,5 @@
 #pragma once
-// Choosing the camera of a render (DESIGN.md section 7, issue 6): a glTF camera by name or index,
+// Choosing the camera of a render (DESIGN.md section 7): a glTF camera by name or index,
 // else the scene's first camera, else an automatic framing; and primary rays through pixels.
 #include <string>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Edge-adaptive supersampling (issue 16): the radiosity image is smooth inside a surface and
+// Edge-adaptive supersampling: the radiosity image is smooth inside a surface and
 // aliased only where the surface under the pixel changes (a silhouette, a crease, a material
 // boundary), so only those pixels need the many samples a box-filtered reference averages.
 // One primary ray per pixel centre finds the surface; a pixel whose 3 x 3 neighbourhood of

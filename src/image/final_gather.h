@@ -1,5 +1,5 @@
 #pragma once
-// Final gathering at render time (issue 16): the light the emitters put directly on each pixel's
+// Final gathering at render time: the light the emitters put directly on each pixel's
 // surface point is computed per sample, exactly, instead of being read from the patches' smooth
 // radiosity, so shadows and penumbrae are as sharp as the geometry makes them.
 //
@@ -34,7 +34,7 @@
 // averages the passes by segment count. A pixel's own marks never select it, so its first-pass
 // value is independent of its selection. On the Cornell box this and the kernel weighting take
 // the error against the path tracer from 2.05% to 1.56% (colored_lights 3.01% to 2.22%) for a
-// few tenths of a second (docs/performance.md, "Issue 16 (session 5)"). Deterministic: the
+// few tenths of a second (docs/rendering.md). Deterministic: the
 // points come from a hash of (seed, pass, pixel, sample, light), so the image has no noise from
 // run to run.
 #include <cstdint>

@@ -1,5 +1,5 @@
 #pragma once
-// Near-field indirect gather at render time (issue 16, session 3; docs/rendering.md). The smooth
+// Near-field indirect gather at render time (docs/rendering.md). The smooth
 // image holds each patch's area mean of the light it gathers, interpolated over vertices, which
 // averages away the peak of the interreflected light in a concave corner: at a point x a
 // fraction of a patch from a crease, the neighbour across the crease fills up to half of x's

@@ -47,7 +47,7 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                             settings.width, " x ", settings.height, " pixels")};
     }
     if (auto ok = checkRayCamera(camera); !ok) return withContext(ok.error(), "render");
-    // Watertight (robust) intersection: no background between patches (issue 19).
+    // Watertight (robust) intersection: no background between patches.
     auto caster = makeRayCaster(mesh, {.packetMode = PacketMode::Packet16, .robust = true});
     if (!caster) return withContext(caster.error(), "render");
     const RayCaster& tracer = **caster;

@@ -1,5 +1,5 @@
 #pragma once
-// The image's surface detail (issue 19): what the per-patch solve averages away, put back per
+// The image's surface detail: what the per-patch solve averages away, put back per
 // sample by the renderer (image/renderer.h's SampleShader).
 // - Texture detail: the interpolated radiosity times texel / patch mean (the classic texture x
 //   illumination split), the texel being baseColor x texture x COLOR_0 (or, on an emitting

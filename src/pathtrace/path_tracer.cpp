@@ -42,7 +42,7 @@ struct PathRandom {
 // their contribution there: power / (r^2 + area), r the distance from x to the triangle's
 // centroid, and 0 exactly where the triangle cannot light x (x behind its plane, or all of it
 // behind x's). By power alone, a point beside one of the black-light box's 176 tube triangles
-// drew the far ones as often and met the near ones' 1 / r^2 rarely: fireflies (issue 16).
+// drew the far ones as often and met the near ones' 1 / r^2 rarely: fireflies.
 struct EmitterTable {
     std::vector<uint32_t> patches;
     std::vector<double> power;  // per entry: sum_k E_k w_k times the area (W)

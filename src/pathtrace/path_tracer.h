@@ -1,5 +1,5 @@
 #pragma once
-// The independent reference (issue 16): a spectral path tracer of the same scene model as the
+// The independent reference: a spectral path tracer of the same scene model as the
 // radiosity pipeline, sharing none of its light transport (no F, no solver, no vertex radiance).
 // Surfaces are one-sided Lambertian reflectors/emitters on their geometric (front) normal, as in
 // the radiosity model (DESIGN.md section 2): a back face neither emits nor reflects. Wavelengths

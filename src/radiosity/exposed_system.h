@@ -1,5 +1,5 @@
 #pragma once
-// The radiosity system of the patches' exposed parts (issue 16, session 6). A patch that runs
+// The radiosity system of the patches' exposed parts. A patch that runs
 // under a block standing on it (radiosity/patch_exposure.h: phi_i, the share of its area that is
 // not inside a closed object) gathers light only on its exposed part, but the plain system
 // B = E + M F B spreads that light over the whole patch and sends it on at phi_i times its

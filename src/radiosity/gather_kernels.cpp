@@ -118,7 +118,7 @@ __attribute__((target("avx2,fma"))) void accumulateAvx2(const uint32_t* columns,
         _mm256_storeu_pd(acc + 4 * v, total);
     }
 }
-// Counts that are not a multiple of the vector width (the default 35 wavelengths, issue 18):
+// Counts that are not a multiple of the vector width (the default 35 wavelengths):
 // kM / 8 (or / 4) vector sums plus a scalar tail of kM % 8 (or % 4) sums in one pass over the
 // entries. One set of sums only: with kM >= 16 there are already >= 2 independent FMA chains an
 // entry, and four sets of 5+ vectors would spill the 16 (AVX2) registers.

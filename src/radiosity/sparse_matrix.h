@@ -48,7 +48,7 @@ struct RowSumCap {
     double largestRowSum = 0;
 };
 
-// Conservation of energy for a matrix of view factors (issue 18): no row of F may sum above 1,
+// Conservation of energy for a matrix of view factors: no row of F may sum above 1,
 // but sampled visibility can push a row over (K shadow segments estimate V_ij with an error of
 // up to 1/K). Scales every entry F_ij by s_i s_j with s_i = min(1, 1 / rowsum_i): row i then
 // sums to at most s_i rowsum_i = 1 (s_j <= 1), rows at or under 1 whose neighbours are too are

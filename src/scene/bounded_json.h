@@ -1,5 +1,5 @@
 #pragma once
-// JSON read before any recursive parser sees it (issue 14): nlohmann's parser is iterative, so a
+// JSON read before any recursive parser sees it: nlohmann's parser is iterative, so a
 // file nesting 15,000 arrays cannot overflow the stack here; the depth and size are then bounded
 // so that tinygltf's recursive value parser, and every recursive walk of ours (dump, copies), stay
 // shallow. Numbers keep their JSON form (64-bit integers, unsigned, or double): 4294967296 reads

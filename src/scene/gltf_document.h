@@ -1,5 +1,5 @@
 #pragma once
-// The checks a glTF file gets before tinygltf parses it (issue 14), on the raw bytes and the
+// The checks a glTF file gets before tinygltf parses it, on the raw bytes and the
 // raw JSON (bounded_json.h): the GLB container (header, chunk lengths and types), the asset
 // version, and every buffer and image uri (a folder or a missing file would otherwise reach
 // tinygltf as a std::bad_alloc). Internal to scene/ (gltf_loader.cpp). Messages name the field,

@@ -1,5 +1,5 @@
 #pragma once
-// KHR_draco_mesh_compression through libdraco (issue 19): every primitive carrying the extension
+// KHR_draco_mesh_compression through libdraco: every primitive carrying the extension
 // has its bufferView decoded with draco::Decoder, and the indices and the attributes the
 // extension names (POSITION, NORMAL, TEXCOORD_n, COLOR_n, ...) are written as plain glTF into one
 // new buffer: uint32 indices and float attributes, with the primitive's accessors pointed at

@@ -1,5 +1,5 @@
 #pragma once
-// What a glTF file asks for that daisy does or does not model (issue 19), read from the raw JSON
+// What a glTF file asks for that daisy does or does not model, read from the raw JSON
 // (bounded_json.h) before tinygltf parses it. Internal to scene/ (gltf_loader.cpp).
 // - extensionsRequired naming an extension daisy cannot read is refused in one line that names
 //   it (Draco and meshopt compression are decoded first: gltf_draco.h, gltf_meshopt.h).

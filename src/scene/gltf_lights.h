@@ -1,5 +1,5 @@
 #pragma once
-// KHR_lights_punctual (issue 19), read from the raw JSON (bounded_json.h): the file's light
+// KHR_lights_punctual, read from the raw JSON (bounded_json.h): the file's light
 // list, checked, and a node's light placed in world space. Internal to scene/ (gltf_loader.cpp).
 // Messages name the place ("extensions.KHR_lights_punctual.lights[1].intensity") without the
 // file (the caller adds it).

@@ -1,6 +1,6 @@
 #pragma once
 // EXT_meshopt_compression (and its KHR_ successor's identical layout) through
-// libmeshoptimizer (issue 19): every compressed bufferView is decoded (vertex or index codec,
+// libmeshoptimizer: every compressed bufferView is decoded (vertex or index codec,
 // then the octahedral, quaternion or exponential filter) into one new buffer, the views are
 // pointed at it and the extension removed, so tinygltf and the accessor readers see plain glTF.
 // Internal to scene/ (gltf_loader.cpp). Messages name the bufferView without the file.

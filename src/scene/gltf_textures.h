@@ -1,5 +1,5 @@
 #pragma once
-// glTF textures for the scene model (issue 19): a material's textureInfo (index, texCoord,
+// glTF textures for the scene model: a material's textureInfo (index, texCoord,
 // KHR_texture_transform) with its texture's sampler, and the image decoded once (stb_image,
 // sRGB colour). Internal to scene/ (gltf_loader.cpp). An image that cannot be read (a missing
 // file, an undecodable format) is one warning line naming it, and the texture is dropped.

@@ -1,5 +1,5 @@
 #pragma once
-// --max-memory while loading (issue 14): every allocation whose size the input decides (file
+// --max-memory while loading: every allocation whose size the input decides (file
 // bytes, glTF buffers, accessor reads, the growing mesh) is charged here first, so a tiny file
 // that declares a huge accessor is refused with its place and size instead of exhausting memory.
 #include <cstdint>

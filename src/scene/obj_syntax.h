@@ -1,6 +1,6 @@
 #pragma once
 // The numbers of OBJ and MTL statements, checked with their line before tinyobjloader reads
-// them (issue 14): tinyobjloader reads "nan", "hello" or "1e999" as 0 or infinity without a
+// them: tinyobjloader reads "nan", "hello" or "1e999" as 0 or infinity without a
 // word. Internal to scene/ (obj_loader.cpp). Errors read
 // "<file>:<line>: v: 'hello' is not a number (expected x y z [w])".
 #include <string>

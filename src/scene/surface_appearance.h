@@ -1,5 +1,5 @@
 #pragma once
-// Where a material's colour varies over its surface (issue 19): baseColorFactor x the
+// Where a material's colour varies over its surface: baseColorFactor x the
 // baseColorTexture texel x COLOR_0, and emissive x the emissiveTexture texel. The solve takes
 // each patch's mean over its area (patchAppearance); the image takes the point value against
 // that mean (image/texture_detail.h): the classic split of texture x illumination, so the image

@@ -1,5 +1,5 @@
 #pragma once
-// Textures as the scene model holds them (issue 19): decoded images in linear RGB and a
+// Textures as the scene model holds them: decoded images in linear RGB and a
 // material's reference to one (glTF textureInfo: the image, the TEXCOORD set, the sampler's
 // wrap and filter modes, KHR_texture_transform). Sampling follows glTF 2.0 section 3.8 and the
 // KHR_texture_transform specification (uv' = T R S uv).

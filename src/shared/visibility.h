@@ -16,7 +16,7 @@ DAISY_SHARED_BEGIN
 // A pair's end clearance (scene units): `relative` times the largest coordinate magnitude among
 // the two patches' corners, i.e. a fixed number of float roundings of where these two patches
 // are. Relative to the patches involved, never to the scene's size, so one far triangle cannot
-// make every segment empty (issue 18). The cpu backend's segments use the same function.
+// make every segment empty. The cpu backend's segments use the same function.
 DAISY_HD float pairClearance(float relative, DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j) {
     vec3 c[6] = {i.a, i.b, i.c, j.a, j.b, j.c};
     float m = 0.0f;
@@ -57,7 +57,7 @@ DAISY_HD bool shadowSegment(uint pairSeedValue, int k, int rays, DAISY_IN(PatchG
     return !(origin.x == end.x && origin.y == end.y && origin.z == end.z);
 }
 
-// V_ij from a pair's segments (issue 18): the kernel-weighted open share sum_open w / sum w
+// V_ij from a pair's segments: the kernel-weighted open share sum_open w / sum w
 // (`seen` and `total`, summed in segment order), not the plain open fraction. V_ij is the
 // kernel-weighted mean of point-to-point visibility (F_ij = Fu_ij V_ij exactly when V is
 // weighted by cos_i cos_j / r^2), so the plain fraction is biased wherever the hidden part of a

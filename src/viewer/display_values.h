@@ -1,5 +1,5 @@
 #pragma once
-// What the patch pipeline draws per vertex (issue 15 item 2), from a solver snapshot: CIE XYZ
+// What the patch pipeline draws per vertex, from a solver snapshot: CIE XYZ
 // radiance for the colour view, and one scalar for false colour (luminance Y, or the radiance at
 // one wavelength sample, UV samples included), smooth (the per-corner vertex radiance that
 // `daisy render` interpolates) or flat (each patch's own value).

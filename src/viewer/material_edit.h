@@ -1,5 +1,5 @@
 #pragma once
-// Scripted material edits (`daisy view --edit`, issue 15 item 6) and the editor panel's edits:
+// Scripted material edits (`daisy view --edit`) and the editor panel's edits:
 // `NAME.FIELD=VALUE`, where FIELD is a member of DAISY_materials_spectral (reflectance, emission
 // or fluorescence) and VALUE is `rgb(r, g, b)` or that member's JSON (docs/scene_format.md), e.g.
 //     Red.reflectance=rgb(0,1,0)

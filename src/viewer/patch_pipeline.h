@@ -1,5 +1,5 @@
 #pragma once
-// The raster pipeline of the patches (issue 15 item 2): three vertices per patch in patch order
+// The raster pipeline of the patches: three vertices per patch in patch order
 // (no index buffer: corners of neighbouring patches carry different values across creases and
 // material boundaries), positions in one buffer, display values in one buffer per frame in
 // flight, depth tested (reverse-Z), no culling (the radiosity solution is two-sided only where

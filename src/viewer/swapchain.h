@@ -1,5 +1,5 @@
 #pragma once
-// The window's swapchain (issue 15 item 1): images, their views and framebuffers, one depth
+// The window's swapchain: images, their views and framebuffers, one depth
 // image, and one "rendering finished" semaphore per image (a present may still wait on the
 // previous one when the frame in flight that used it has finished). Made again, reusing the old
 // swapchain, on resize and on VK_ERROR_OUT_OF_DATE_KHR / VK_SUBOPTIMAL_KHR.

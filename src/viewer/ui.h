@@ -1,5 +1,5 @@
 #pragma once
-// The viewer's Dear ImGui panel (issue 15 item 4): scene statistics, view modes and exposure,
+// The viewer's Dear ImGui panel: scene statistics, view modes and exposure,
 // cameras, solver controls (one bounce, to convergence, reset to emission; iteration, change and
 // residual live), the wavelength set, the materials editor, and the picked patch's B(lambda) and
 // incident light. Edits go to the solve worker, which refuses invalid ones with the reason shown.

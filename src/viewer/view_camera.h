@@ -1,5 +1,5 @@
 #pragma once
-// The viewer's camera (issue 15 item 3): a daisy::Camera (scene/scene.h, the same pinhole that
+// The viewer's camera: a daisy::Camera (scene/scene.h, the same pinhole that
 // `daisy render` shoots primary rays through, image/camera.h) moved by orbit, pan, dolly and fly
 // controls, and its Vulkan clip-from-world matrix. Up is kept at +y (the glTF convention) once the
 // user moves a camera; a glTF camera's own up is used until then.

@@ -1,5 +1,5 @@
 #pragma once
-// `daisy view` (issue 15, docs/viewer.md): a GLFW window with a Vulkan swapchain that shows the
+// `daisy view` (docs/viewer.md): a GLFW window with a Vulkan swapchain that shows the
 // session's smooth vertex radiance rasterised (the picture `daisy render` ray-casts), a camera to
 // orbit and fly, and a Dear ImGui panel with the solver controls and a live materials editor
 // whose re-solves run in the background (viewer/solve_worker.h). The test mode (--frames N,

@@ -1,4 +1,4 @@
-// Runs `daisy bench SCENE` (issue 7 items 1-2, app/bench_sweep.h) on the white furnace, whose
+// Runs `daisy bench SCENE` (bench/sweep.h) on the white furnace, whose
 // reference is analytic (B = E / (1 - rho) = 2 everywhere): the CSV's rows carry their real
 // errors against it, the plot and the reference image are written, and a second run reads the
 // cached reference instead of recomputing it.

@@ -1,4 +1,4 @@
-// Runs `daisy bench SCENE --reference path --quick` (issue 16, app/bench_path.h) on the Cornell
+// Runs `daisy bench SCENE --reference path --quick` (app/bench_path.h) on the Cornell
 // box at a coarse patch size: the CSV has the path tracer's curve and the radiosity rows with
 // their errors against the path-traced reference, the chart, reference and error images are
 // written, and a second run reads the cached reference instead of tracing it again.

@@ -29,7 +29,7 @@ TEST(Cli, InfoDescribesTheCornellBox) {
     const RunResult run = runDaisy("info " + cornellBox());
     ASSERT_EQ(run.status, 0) << run.output;
     EXPECT_NE(run.output.find("triangles      38"), std::string::npos) << run.output;
-    // info shows the patches render solves: the automatic size (issue 19).
+    // info shows the patches render solves: the automatic size.
     EXPECT_NE(run.output.find(", the automatic size; bound"), std::string::npos) << run.output;
     const RunResult unsubdivided = runDaisy("info " + cornellBox() + " --subdivide 0");
     EXPECT_NE(unsubdivided.output.find("patches        38 (no subdivision)"), std::string::npos)

@@ -1,4 +1,4 @@
-// docs/errors.md, row by row (issue 14): each row names a bad input, the exact line daisy prints
+// docs/errors.md, row by row: each row names a bad input, the exact line daisy prints
 // and its exit status. The rows are read from the document itself, and every row's id must have
 // a case below that builds the input and gives the command, so the catalogue and the program
 // cannot drift apart. Inputs are variants of tests/data/gltf/lamp_room.gltf (a floor and a UV

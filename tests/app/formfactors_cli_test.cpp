@@ -97,7 +97,7 @@ TEST(FormFactorsCli, UnwritableOutputFailsCleanly) {
     EXPECT_TRUE(std::filesystem::is_empty(dir));
 }
 
-// The cost model's choice is in --verbose (issue 18): its measured costs and what it culled or
+// The cost model's choice is in --verbose: its measured costs and what it culled or
 // traced, or, when the rays' cost was lost in timing noise, that it stayed off.
 TEST(FormFactorsCli, VerboseLogsTheCostModelsChoice) {
     const auto dir = test::testTempDir();

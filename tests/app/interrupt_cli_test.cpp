@@ -1,4 +1,4 @@
-// SIGINT / SIGTERM (issue 14, core/interrupt.h): a `formfactors` or `render` run interrupted in
+// SIGINT / SIGTERM (core/interrupt.h): a `formfactors` or `render` run interrupted in
 // its expensive stage stops within a second, exits 130 with one line, and leaves neither the
 // output nor its temporary (F.mtx.tmp-<pid>) behind.
 #include <gtest/gtest.h>

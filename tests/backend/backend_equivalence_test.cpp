@@ -103,7 +103,7 @@ TEST_P(BackendEquivalence, RiemannAndNusseltConverge) {
 
 // Summation rule in a closed cube (hybrid: exact up to its refinement tolerance), and around a
 // solid box inside it, where visibility enters: every row of the room and the box sums to 1.
-// At the default K = 4 rows stray by up to ~2% (sampling); at K = 256 by 0.2%. Before issue 18's
+// At the default K = 4 rows stray by up to ~2% (sampling); at K = 256 by 0.2%. Without
 // kernel-weighted visibility they fell short by up to 3.4% at any K: a room patch straddling
 // the plane of a box face got shadow samples on its part behind that plane, blocked by the
 // box's other faces, and the plain open fraction counted them. Reciprocity entry by entry.

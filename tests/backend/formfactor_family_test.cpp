@@ -1,4 +1,4 @@
-// The view-factor benchmark family (tools/make_formfactor_family.py, issue 18), small versions,
+// The view-factor benchmark family (tools/make_formfactor_family.py), small versions,
 // on every backend through the one driver. Oracle: the reference backend with shaft culling
 // off, which traces every candidate pair (the driver's only ray-free decision left is facing
 // away). Culling and the cost model only skip work, so every backend must give the same matrix

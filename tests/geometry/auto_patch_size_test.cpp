@@ -75,7 +75,7 @@ TEST(AutoPatchSize, SplitsLargeTrianglesFirst) {
     EXPECT_LE(patches->patchCount(), 600u);
 }
 
-// The demo scenes (issue 6): the measured Cornell box (two triangles a wall, 0.55 m) gets
+// The demo scenes: the measured Cornell box (two triangles a wall, 0.55 m) gets
 // patches of a few centimetres; the 7,712-triangle black-light box is kept as it is.
 TEST(AutoPatchSize, DemoScenes) {
     auto cornell = loadScene(test::assetPath("scenes/cornell_box.gltf"));

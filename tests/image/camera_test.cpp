@@ -130,7 +130,7 @@ TEST(ImageCamera, FramesAnOpenSceneFromOutside) {
 }
 
 TEST(ImageCamera, NumbersAreTheFilesCameraIndices) {
-    // glTF cameras[] order, not the order the node tree reaches them (issue 19); a skipped
+    // glTF cameras[] order, not the order the node tree reaches them; a skipped
     // orthographic camera's number says why it is missing.
     Scene scene;
     scene.path = "cams.gltf";

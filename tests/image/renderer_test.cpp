@@ -139,7 +139,7 @@ namespace {
 // multi-jittered samples sit in N^2 distinct columns and rows at (k + 1/2) / N^2, so that is
 // the analytic area fraction f rounded to a multiple of 1 / N^2: within 1 / (2 N^2), and exactly
 // ceil(f N^2 - 1/2) / N^2 (stratum centres alone would round to 1 / N). Samples half a pixel
-// off (the bug issue 16 reported) miss these by 1/2.
+// off (a bug once seen) miss these by 1/2.
 TEST(ImageRenderer, EdgeCoverageIsTheAreaFraction) {
     const Camera camera = originCamera();
     const int width = 8, height = 8;

@@ -1,4 +1,4 @@
-// Issue 19: the image's texture detail is the texel against the patch mean, so the pixels of a
+// The image's texture detail is the texel against the patch mean, so the pixels of a
 // patch average to what the solve gave it (energy-consistent), and the two faces of a
 // double-sided surface show their own radiosity.
 #include "image/texture_detail.h"

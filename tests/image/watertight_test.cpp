@@ -1,4 +1,4 @@
-// Issue 19: primary rays through the edges that subdivision creates must hit one of the two
+// Primary rays through the edges that subdivision creates must hit one of the two
 // patches sharing them. Oracle: inside a surface that covers the whole view, every sample hits,
 // so the coverage (1 on every corner, 0 for a miss) is exactly 1 in every pixel.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The path tracer's oracles (issue 16): the white furnace (B = E / (1 - rho) everywhere in a
+// The path tracer's oracles: the white furnace (B = E / (1 - rho) everywhere in a
 // closed room of one material), the fluorescent furnace (B = (I - M)^-1 E), and a lit plane under
 // an area light (the closed-form point-to-polygon irradiance, Howell B-3 and Lambert's formula).
 // Each check allows five standard errors of the estimator's own noise, and asserts that noise is

@@ -228,7 +228,7 @@ TEST(Session, DiskCacheIsReusedAcrossMaterialAndWavelengthChanges) {
     EXPECT_FALSE(third.formFactorsCached());
 }
 
-// The cache store runs in the background while the solve reads F (issue 18): once it has
+// The cache store runs in the background while the solve reads F: once it has
 // finished, the entry on disk is F bit for bit, with the build's stats, and the solve that ran
 // alongside it matches one from a session without a cache.
 TEST(Session, BackgroundCacheStoreWritesTheMatrixSolvedWith) {

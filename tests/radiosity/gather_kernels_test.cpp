@@ -1,6 +1,6 @@
 // The gather kernels (radiosity/gather_kernels.h) against the plain sum they replace,
 // acc_k += sum_p F_p B_{c_p, k}, for every wavelength count with its own kernel (the default 35
-// included: issue 18) and a few without: equal up to summation order and FMA rounding, bounded
+// included) and a few without: equal up to summation order and FMA rounding, bounded
 // by n eps sum |F B| (Higham 2002, "Accuracy and Stability of Numerical Algorithms", eq. 4.4)
 // in double, and by the mixed-precision bound (runs of 64 float products, ~16 x 2^-24) for B read
 // as float.

@@ -1,4 +1,4 @@
-// The measured Cornell box's colours (issue 6), read from the solved patch table of `daisy solve`
+// The measured Cornell box's colours, read from the solved patch table of `daisy solve`
 // (X, Y, Z of each patch's radiosity; docs/cli.md), so they do not depend on exposure or the
 // image: the white back wall takes the warm colour of the measured light, and the red and green
 // walls bleed their colour onto the sides of the blocks that face them.

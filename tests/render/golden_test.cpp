@@ -1,4 +1,4 @@
-// Golden images (issue 6): small renders of each demo scene through the `daisy render` command
+// Golden images: small renders of each demo scene through the `daisy render` command
 // line, compared pixel by pixel with the committed references in tests/golden/ in CIEDE2000
 // (spectral/color.h, sRGB white). Tolerance: mean Delta E00 <= 1 (about one just-noticeable
 // difference, Sharma et al. 2005) and 99th percentile <= 3, which leaves room for the pixels on

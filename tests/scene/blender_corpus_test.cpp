@@ -1,4 +1,4 @@
-// Issue 19: files written by Blender 3.4's own glTF exporter (tools/make_blender_corpus.py,
+// Files written by Blender 3.4's own glTF exporter (tools/make_blender_corpus.py,
 // committed under tests/data/blender): what Blender put in them is what daisy loads, and the
 // diffuse Cornell box renders like Cycles' render of the same scene.
 #include <gtest/gtest.h>

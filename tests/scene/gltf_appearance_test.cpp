@@ -1,4 +1,4 @@
-// Issue 19: what real glTF files say about surfaces — textures (baseColorTexture,
+// What real glTF files say about surfaces — textures (baseColorTexture,
 // emissiveTexture, KHR_texture_transform, samplers), COLOR_0, doubleSided, emissive as radiance
 // — and the warnings and refusals for what daisy does not model.
 #include <gtest/gtest.h>

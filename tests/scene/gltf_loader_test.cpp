@@ -258,7 +258,7 @@ TEST(GltfLoader, MaterialsFromBaseColorEmissiveAndStrength) {
     EXPECT_EQ(scene.materials[1].name, "material1");
     EXPECT_EQ(scene.materials[1].origin, path + ": materials[1]");
     EXPECT_EQ(scene.materials[1].baseColor, (std::array<double, 3>{1, 1, 1}));  // glTF default
-    // glTF's emissive is radiance: exitance = pi x factor x strength (issue 19).
+    // glTF's emissive is radiance: exitance = pi x factor x strength.
     constexpr double kPi = std::numbers::pi;
     EXPECT_EQ(scene.materials[1].emissiveRgb,
               (std::array<double, 3>{kPi * 1 * 4, kPi * 0.5 * 4, kPi * 0.25 * 4}));

@@ -1,4 +1,4 @@
-// The library checks issue 14 added, one by one: the bounded JSON pre-pass, the GLB container,
+// The library's hostile-input checks, one by one: the bounded JSON pre-pass, the GLB container,
 // OBJ numbers, the load budget, the float32 range of scenes and the no-emitter warning. The
 // command-line messages are covered row by row by tests/app/errors_catalogue_test.cpp.
 #include <gtest/gtest.h>

@@ -98,7 +98,7 @@ TEST(FormFactorPoint, OneSidedAndClippedToTheFrontHalfSpace) {
 TEST(FormFactorPair, HowellC11ParallelSquares) {
     double hybrid =
         squareFactor(DAISY_METHOD_HYBRID, DAISY_DEFAULT_QUADRATURE_LEVEL, kFloor, kCeiling);
-    EXPECT_NEAR(hybrid, kHowellC11, 1e-3 * kHowellC11);  // the target: 0.1 %
+    EXPECT_NEAR(hybrid, kHowellC11, 1e-3 * kHowellC11);  // within 0.1 %
     EXPECT_NEAR(hybrid, kHowellC11, 1e-4 * kHowellC11);  // what it achieves (-1.4e-5)
     // riemann converges as O(h^2) from above: L = 1 is ~5 % high, each level ~4x better.
     double r1 = squareFactor(DAISY_METHOD_RIEMANN, 1, kFloor, kCeiling);

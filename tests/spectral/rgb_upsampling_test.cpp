@@ -12,7 +12,7 @@
 namespace daisy {
 namespace {
 
-// The oracle: RGB -> spectrum -> XYZ -> RGB on the fine set returns the colour within
+// The oracle: RGB -> spectrum -> XYZ -> RGB on the fine set returns the colour within
 // 2e-3 (linear sRGB, max abs) for 10,000 random in-gamut colours, and the spectra stay in [0, 1].
 TEST(RgbUpsampling, RoundTripOnFineSet) {
     const ReflectanceRoundTrip roundTrip(fineWavelengths());

@@ -1,4 +1,4 @@
-// `daisy view` end to end (issue 15 item 6): the viewer under a display (Xvfb via xvfb-run when
+// `daisy view` end to end: the viewer under a display (Xvfb via xvfb-run when
 // DISPLAY is unset) on Mesa lavapipe (tests/CMakeLists.txt). Without a display or a Vulkan device
 // the tests skip, and fail instead under DAISY_REQUIRE_VULKAN=1 (what CI sets).
 #if DAISY_HAVE_VIEWER
