@@ -568,20 +568,23 @@ bool Session::previewBounce(std::span<const uint8_t> selected) {
     if (!s.transport || s.gathered.size() != n * m || !s.exposure) return false;
     std::vector<double> radiosity = displayRadiosity();
     if (radiosity.size() != n * m) return false;
-    // The exposed parts' operators s_i M_i of the current materials, as the next solve has them.
-    const ExposedSystem exposed =
-        exposedSystem(s.system, s.exposure->fraction, s.transport->rowSums());
-    const RadiositySystem& system = exposed.changed ? exposed.system : s.system;
+    // The last solve's exposed parts (radiosity/exposed_system.h): phi_i and the scale s_i of
+    // M_i depend only on the patches and the transport, not on the materials, so the edited
+    // operators are scaled here per selected patch instead of rebuilding the whole system.
+    const ExposedSystem& exposed = s.exposed;
+    std::vector<double> reflected(m);
     for (std::size_t i = 0; i < n; ++i) {
         if (!selected[i]) continue;
         const double* e = s.system.emissionRow(uint32_t(i));
         double* b = radiosity.data() + i * m;
         // B'_i = E_i + s_i M_i G_i, then the whole-patch mean B_i = E_i + phi_i (B'_i - E_i).
-        applyOperator(system.operators[system.patchOperator[i]], s.gathered.data() + i * m, b, e);
-        if (exposed.changed && exposed.phi[i] != 1) {
-            for (std::size_t k = 0; k < m; ++k)
-                b[k] = e[k] + exposed.phi[i] * (b[k] - e[k]);
-        }
+        applyOperator(s.system.operators[s.system.patchOperator[i]], s.gathered.data() + i * m,
+                      reflected.data());
+        const bool scaled = exposed.changed && exposed.phi[i] != 1;
+        const double share =
+            scaled ? exposed.phi[i] * (s.system.areas[i] / exposed.system.areas[i]) : 1.0;
+        for (std::size_t k = 0; k < m; ++k)
+            b[k] = e[k] + share * reflected[k];
     }
     s.solution = {};
     s.solution.radiosity = std::move(radiosity);
