@@ -182,7 +182,7 @@ void addBenchCommand(CLI::App& app, CommandContext& context) {
         ->add_option("--reference-noise", bench->referenceNoise,
                      "Percent: stop the path-traced reference once its relative RMS noise is "
                      "under this (0: run to --reference-spp)")
-        ->check(CLI::Range(0.0, 100.0))
+        ->check(finiteNumber(0, 100))
         ->capture_default_str();
     context.onRun(command, [&common = context.common, bench]() -> Expected<int> {
         if (bench->stress) return runStress(common, *bench);

@@ -2,7 +2,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
 #include <cstdlib>
+#include <limits>
 
 #include "core/strings.h"
 #include "pipeline/backend_registry.h"
@@ -86,7 +90,7 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
         .add_option("--subdivide", options.subdivideMaxEdge,
                     "Subdivide patches to this maximum edge length (0 = none; default: "
                     "render and view choose from the scene, other commands keep the triangles)")
-        ->check(CLI::NonNegativeNumber);
+        ->check(finiteNumber(0, std::numeric_limits<double>::max()));
     command.add_option("--wavelengths", options.wavelengths, "Wavelength set")
         ->check(kWavelengthSet)
         ->capture_default_str();
@@ -103,6 +107,7 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
         ->check(CLI::Range(0, 4096))
         ->capture_default_str();
     command.add_option("--seed", options.seed, "Seed of the sample sequences")
+        ->check(kSeed)
         ->capture_default_str();
     auto* cache = command.add_option(
         "--cache", options.cacheDir,
@@ -165,5 +170,36 @@ std::optional<std::array<double, 3>> parseBackground(const std::string& text) {
     }
     return rgb;
 }
+
+CLI::Validator finiteNumber(double lo, double hi) {
+    return CLI::Validator(
+        [lo, hi](std::string& text) {
+            char* end = nullptr;
+            const double value = std::strtod(text.c_str(), &end);
+            if (text.empty() || *end != '\0' || !std::isfinite(value) || value < lo || value > hi) {
+                return hi >= std::numeric_limits<double>::max()
+                    ? concat("'", text, "' is not a finite number of at least ", formatNumber(lo))
+                    : concat("'", text, "' is not a finite number from ", formatNumber(lo), " to ",
+                             formatNumber(hi));
+            }
+            return std::string();
+        },
+        "NUMBER");
+}
+
+const CLI::Validator kSeed(
+    [](std::string& text) {
+        errno = 0;
+        char* end = nullptr;
+        const bool digits = !text.empty() &&
+            std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+        if (digits) std::strtoull(text.c_str(), &end, 10);
+        if (!digits || errno == ERANGE) {
+            return concat("'", text, "' is not a seed: give an integer from 0 to ",
+                          std::numeric_limits<uint64_t>::max());
+        }
+        return std::string();
+    },
+    "SEED");
 
 }  // namespace daisy::app

@@ -133,4 +133,10 @@ void addCacheSizeOption(CLI::App& command, std::string& text);
 // Physical memory of this machine in bytes (0 when unknown).
 uint64_t physicalMemoryBytes();
 
+// A finite number in [lo, hi]: CLI11's Range and NonNegativeNumber let NaN through, since every
+// comparison with it is false. The message names the value and the range.
+CLI::Validator finiteNumber(double lo, double hi);
+// A seed: a decimal integer from 0 to 2^64 - 1, without sign (CLI11 wraps -1 and 2^64 around).
+extern const CLI::Validator kSeed;
+
 }  // namespace daisy::app

@@ -386,7 +386,7 @@ void addRenderCommand(CLI::App& app, CommandContext& context) {
     command
         ->add_option("--near-radius", render->nearRadius,
                      "Radius of --gather near's per-sample indirect light, in patch sizes")
-        ->check(CLI::Range(0.0, 16.0))
+        ->check(finiteNumber(0, 16))
         ->capture_default_str();
     command
         ->add_option(

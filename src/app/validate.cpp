@@ -96,10 +96,10 @@ void addValidateCommand(CLI::App& app, CommandContext& context) {
         ->check(CLI::IsMember({"reference", "cpu"}))
         ->capture_default_str();
     command->add_option("--rtol", validate->relativeTolerance, "Relative tolerance per entry")
-        ->check(CLI::NonNegativeNumber)
+        ->check(finiteNumber(0, 1))
         ->capture_default_str();
     command->add_option("--atol", validate->absoluteTolerance, "Absolute tolerance per entry")
-        ->check(CLI::NonNegativeNumber)
+        ->check(finiteNumber(0, 1))
         ->capture_default_str();
     command->add_option("--worst", validate->worstShown, "Worst entries to list")
         ->check(CLI::Range(0, 1000000))

@@ -265,6 +265,26 @@ const std::map<std::string, Case>& cases() {
          [](const auto&) {
              return "solve " + testDataPath("gltf/lamp_room.gltf") + " --tolerance 0";
          }},
+        {"validate-rtol-nan",
+         [](const auto&) {
+             return "validate " + testDataPath("gltf/lamp_room.gltf") +
+                 " --backend vulkan --rtol nan";
+         }},
+        {"render-near-radius-nan",
+         [](const auto& dir) {
+             return "render " + testDataPath("gltf/lamp_room.gltf") + " --near-radius nan -o " +
+                 (dir / "out.png").string();
+         }},
+        {"subdivide-nan",
+         [](const auto&) {
+             return "info " + testDataPath("gltf/lamp_room.gltf") + " --subdivide nan";
+         }},
+        {"seed-negative",
+         [](const auto&) { return "solve " + testDataPath("gltf/lamp_room.gltf") + " --seed -1"; }},
+        {"seed-2^64",
+         [](const auto&) {
+             return "solve " + testDataPath("gltf/lamp_room.gltf") + " --seed 18446744073709551616";
+         }},
         {"render-unwritable-output",
          [](const auto& dir) {
              return "render " + testDataPath("gltf/lamp_room.gltf") + " -o " +
