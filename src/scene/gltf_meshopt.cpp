@@ -182,6 +182,23 @@ Expected<void> decodeMeshoptViews(nlohmann::json& root, const std::string& folde
         void* out = decoded.data() + at;
         const auto* in = reinterpret_cast<const unsigned char*>(source.data() + offset);
         const std::string mode = ext->value("mode", std::string());
+        const std::string filter = ext->value("filter", std::string("NONE"));
+        // libmeshoptimizer asserts its preconditions (Debian builds it with assertions on): every
+        // count, stride and filter is checked here first (EXT_meshopt_compression's rules).
+        if (mode == "ATTRIBUTES" && stride % 4 != 0) {
+            return Error{concat(where, ".byteStride: ", stride,
+                                " is not a multiple of 4, as ATTRIBUTES requires")};
+        }
+        if (mode == "TRIANGLES" && count % 3 != 0) {
+            return Error{
+                concat(where, ".count: ", count, " is not a multiple of 3, as TRIANGLES requires")};
+        }
+        if (filter != "NONE" &&
+            (mode != "ATTRIBUTES" || (filter == "OCTAHEDRAL" && stride != 4 && stride != 8) ||
+             (filter == "QUATERNION" && stride != 8))) {
+            return Error{concat(where, ".filter: \"", filter, "\" does not apply to mode \"", mode,
+                                "\" with byteStride ", stride)};
+        }
         int status = -1;
         if (mode == "ATTRIBUTES") {
             status = meshopt_decodeVertexBuffer(out, count, stride, in, length);
@@ -194,7 +211,6 @@ Expected<void> decodeMeshoptViews(nlohmann::json& root, const std::string& folde
                                 " is not ATTRIBUTES, TRIANGLES or INDICES (2 or 4 bytes)")};
         }
         if (status != 0) return Error{where + ": the compressed data cannot be decoded"};
-        const std::string filter = ext->value("filter", std::string("NONE"));
         if (filter == "OCTAHEDRAL") {
             meshopt_decodeFilterOct(out, count, stride);
         } else if (filter == "QUATERNION") {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/strings.h"
 #include "geometry/patch_mesh.h"
 #include "image/image_io.h"
 #include "scene/gltf_builder.h"
@@ -380,6 +381,46 @@ TEST(GltfFeatures, PunctualLightsArePlacedByTheirNodes) {
               bad +
                   ": nodes[1]: extensions.KHR_lights_punctual.light: light 7 is out of range "
                   "(the file has 2)");
+}
+
+// libmeshoptimizer asserts (aborts) on a TRIANGLES count that is not a multiple of 3, a vertex
+// stride that is not a multiple of 4 and a filter on the wrong stride or mode: each is refused
+// with the view's place before any decoder runs.
+TEST(GltfFeatures, MeshoptCountsStridesAndFiltersAreCheckedBeforeDecoding) {
+    struct Case {
+        nlohmann::json fields;
+        std::string message;
+    };
+    const Case cases[] = {
+        {{{"byteStride", 4}, {"count", 4}, {"mode", "TRIANGLES"}},
+         ".count: 4 is not a multiple of 3, as TRIANGLES requires"},
+        {{{"byteStride", 6}, {"count", 3}, {"mode", "ATTRIBUTES"}},
+         ".byteStride: 6 is not a multiple of 4, as ATTRIBUTES requires"},
+        {{{"byteStride", 12}, {"count", 3}, {"mode", "ATTRIBUTES"}, {"filter", "OCTAHEDRAL"}},
+         ".filter: \"OCTAHEDRAL\" does not apply to mode \"ATTRIBUTES\" with byteStride 12"},
+        {{{"byteStride", 4}, {"count", 3}, {"mode", "TRIANGLES"}, {"filter", "EXPONENTIAL"}},
+         ".filter: \"EXPONENTIAL\" does not apply to mode \"TRIANGLES\" with byteStride 4"},
+    };
+    int k = 0;
+    for (const Case& c : cases) {
+        GltfBuilder gltf;
+        gltf.addSingleTriangleScene({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+        const std::string data(40, '\x7f');
+        const int view = gltf.addView(data.data(), data.size());
+        nlohmann::json ext = {{"buffer", 0},
+                              {"byteOffset", gltf.doc["bufferViews"][view]["byteOffset"]},
+                              {"byteLength", 40}};
+        ext.update(c.fields);
+        gltf.doc["bufferViews"][0]["extensions"]["EXT_meshopt_compression"] = ext;
+        gltf.doc["extensionsUsed"] = {"EXT_meshopt_compression"};
+        gltf.doc["extensionsRequired"] = {"EXT_meshopt_compression"};
+        const std::string path =
+            gltf.writeGltf(test::testTempDir(), concat("meshopt", k++, ".gltf"));
+        auto scene = loadScene(path, {});
+        ASSERT_FALSE(scene);
+        EXPECT_EQ(scene.error().message,
+                  path + ": bufferViews[0].extensions.EXT_meshopt_compression" + c.message);
+    }
 }
 
 TEST(GltfFeatures, UndecodableMeshoptDataIsRefusedNamingTheView) {
