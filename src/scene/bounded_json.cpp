@@ -7,8 +7,6 @@
 namespace daisy {
 namespace {
 
-struct TooDeep {};
-
 // nlohmann's what() is "[json.exception.parse_error.101] parse error at line L, column C: ...".
 std::string withoutPrefix(std::string message) {
     if (message.starts_with("[json.exception")) {
@@ -26,23 +24,34 @@ Expected<nlohmann::json> parseBoundedJson(std::string_view text, int maxDepth) {
         return Error{concat("the JSON text is ", formatBytes(double(text.size())), ", over the ",
                             formatBytes(double(kMaxJsonBytes)), " limit")};
     }
-    // The callback sees each value's depth as the parser opens it; throwing stops the parse
-    // before the tree grows any deeper.
-    const nlohmann::json::parser_callback_t limitDepth =
-        [maxDepth](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
-            if ((event == nlohmann::json::parse_event_t::object_start ||
-                 event == nlohmann::json::parse_event_t::array_start) &&
-                depth >= maxDepth) {
-                throw TooDeep{};
+    // Depth by one linear scan of the brackets outside strings, before parsing: nlohmann's parser
+    // is iterative, but the tree it builds is destroyed recursively, and a parser callback would
+    // re-scan each parent after every closed value (quadratic in the members of an object).
+    int depth = 0;
+    bool inString = false, escaped = false;
+    for (const char c : text) {
+        if (inString) {
+            if (escaped) {
+                escaped = false;
+            } else if (c == '\\') {
+                escaped = true;
+            } else if (c == '"') {
+                inString = false;
             }
-            return true;
-        };
+        } else if (c == '"') {
+            inString = true;
+        } else if (c == '[' || c == '{') {
+            if (++depth > maxDepth) {
+                return Error{concat("JSON nests deeper than ", maxDepth,
+                                    " levels (arrays or objects inside each other); refused "
+                                    "before parsing further")};
+            }
+        } else if (c == ']' || c == '}') {
+            --depth;
+        }
+    }
     try {
-        return nlohmann::json::parse(text.begin(), text.end(), limitDepth);
-    } catch (const TooDeep&) {
-        return Error{concat("JSON nests deeper than ", maxDepth,
-                            " levels (arrays or objects inside each other); refused before "
-                            "parsing further")};
+        return nlohmann::json::parse(text.begin(), text.end());
     } catch (const nlohmann::json::parse_error& e) {
         return Error{concat("invalid JSON: ", withoutPrefix(e.what()))};
     } catch (const nlohmann::json::exception& e) {

@@ -54,10 +54,21 @@ Expected<nlohmann::json> readJsonFile(const std::string& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return Error{path + ": no such file"};
     if (std::filesystem::is_directory(path, ec)) return Error{path + ": is a directory"};
+    // A device or pipe (/dev/zero) would be read without end: only regular files, their size
+    // checked against the JSON limit before reading.
+    if (!std::filesystem::is_regular_file(path, ec)) return Error{path + ": is not a regular file"};
+    const uintmax_t bytes = std::filesystem::file_size(path, ec);
+    if (ec) return Error{path + ": cannot read its size: " + ec.message()};
+    if (bytes > kMaxJsonBytes) {
+        return Error{concat(path, ": the JSON text is ", formatBytes(double(bytes)), ", over the ",
+                            formatBytes(double(kMaxJsonBytes)), " limit")};
+    }
     std::ifstream in(path, std::ios::binary);
     if (!in) return Error{path + ": cannot open for reading"};
-    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    std::string text(std::size_t(bytes), '\0');
+    in.read(text.data(), std::streamsize(text.size()));
     if (in.bad()) return Error{path + ": read failed"};
+    text.resize(std::size_t(in.gcount()));
     auto parsed = parseBoundedJson(text);
     if (!parsed) return withContext(parsed.error(), path);
     return parsed;

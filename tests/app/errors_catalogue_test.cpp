@@ -168,6 +168,10 @@ const std::map<std::string, Case>& cases() {
                  R"({"floor": {"reflectance": {"wavelengths": [400, 500, 600], "values": [0.5, 4294967296, 0.5]}}})");
              return info(testDataPath("gltf/lamp_room.gltf"), " --materials " + materials);
          }},
+        {"materials-not-a-file",
+         [](const auto&) {
+             return info(testDataPath("gltf/lamp_room.gltf"), " --materials /dev/zero");
+         }},
         {"gltf-emissive-strength-1e308",
          [](const auto& dir) {
              json room = lampRoom();

@@ -25,6 +25,28 @@ TEST(BoundedJson, RefusesDeepNestingWithoutRecursion) {
     EXPECT_TRUE(parseBoundedJson(std::string(64, '[') + std::string(64, ']')));
 }
 
+// The depth is counted on brackets outside strings: brackets and escaped quotes inside strings
+// do not count, and 64 levels around a string full of '[' still parse.
+TEST(BoundedJson, CountsOnlyBracketsOutsideStrings) {
+    const std::string inner = "\"" + std::string(200, '[') + "\\\"{\"";
+    auto parsed = parseBoundedJson(std::string(64, '[') + inner + std::string(64, ']'));
+    ASSERT_TRUE(parsed) << parsed.error().message;
+    EXPECT_FALSE(parseBoundedJson(std::string(65, '[') + inner + std::string(65, ']')));
+}
+
+// An object of 40,000 object-valued members (a large --materials file) parses whole, every
+// member kept.
+TEST(BoundedJson, KeepsEveryMemberOfALargeObject) {
+    std::string text = "{";
+    for (int i = 0; i < 40000; ++i)
+        text += (i ? ",\"m" : "\"m") + std::to_string(i) + "\": {\"a\": [1, 2]}";
+    text += "}";
+    auto parsed = parseBoundedJson(text);
+    ASSERT_TRUE(parsed) << parsed.error().message;
+    EXPECT_EQ(parsed->size(), 40000u);
+    EXPECT_EQ((*parsed)["m39999"]["a"][1], 2);
+}
+
 TEST(BoundedJson, KeepsIntegersNullsAndEmptyMembersAsWritten) {
     // tinygltf reads 4294967296 as an int (0); nlohmann keeps the 64-bit value.
     auto parsed = parseBoundedJson(R"({"a": 4294967296, "b": null, "c": {}, "d": -4294967295})");
