@@ -33,13 +33,7 @@ void writeEntry(const fs::path& dir, const std::string& name, int hoursAgo) {
                         fs::file_time_type::clock::now() - std::chrono::hours(hoursAgo));
 }
 
-std::vector<std::string> names(const fs::path& dir) {
-    std::vector<std::string> found;
-    for (const auto& entry : fs::directory_iterator(dir))
-        found.push_back(entry.path().filename().string());
-    std::sort(found.begin(), found.end());
-    return found;
-}
+using test::fileNames;
 
 bool contains(const std::string& text, const std::string& part) {
     return text.find(part) != std::string::npos;
@@ -71,12 +65,12 @@ TEST(CacheCommandCli, ListPruneAndClear) {
     ASSERT_EQ(prune.status, 0) << prune.output;
     EXPECT_TRUE(contains(prune.output, "evicted 1 entry (1.04 KiB); 2 entries left"))
         << prune.output;
-    EXPECT_EQ(names(dir), (std::vector<std::string>{"mid.dff", "new.dff", "notes.txt"}));
+    EXPECT_EQ(fileNames(dir), (std::vector<std::string>{"mid.dff", "new.dff", "notes.txt"}));
 
     const RunResult clear = runDaisy("cache clear" + folder);
     ASSERT_EQ(clear.status, 0) << clear.output;
     EXPECT_TRUE(contains(clear.output, "removed 2 entries")) << clear.output;
-    EXPECT_EQ(names(dir), std::vector<std::string>{"notes.txt"});
+    EXPECT_EQ(fileNames(dir), std::vector<std::string>{"notes.txt"});
 
     const RunResult empty = runDaisy("cache list" + folder);
     ASSERT_EQ(empty.status, 0) << empty.output;
@@ -99,7 +93,7 @@ TEST(CacheCommandCli, FollowsXdgCacheHomeAndRemovesStaleTemporaries) {
     ASSERT_EQ(prune.status, 0) << prune.output;
     EXPECT_TRUE(contains(prune.output, "evicted 0 entries")) << prune.output;
     EXPECT_TRUE(contains(prune.output, "removed 1 temporary file of dead writers")) << prune.output;
-    EXPECT_EQ(names(dir), std::vector<std::string>{"entry.dff"});
+    EXPECT_EQ(fileNames(dir), std::vector<std::string>{"entry.dff"});
 }
 
 // A real F entry: listed with its patch count; an F larger than --cache-size is not stored, and
@@ -112,14 +106,14 @@ TEST(CacheCommandCli, SolveHonoursTheLimit) {
     ASSERT_EQ(tooSmall.status, 0) << tooSmall.output;
     EXPECT_TRUE(contains(tooSmall.output, "is over the cache size limit of 64 B (--cache-size)"))
         << tooSmall.output;
-    EXPECT_TRUE(!fs::exists(dir) || names(dir).empty());
+    EXPECT_TRUE(!fs::exists(dir) || fileNames(dir).empty());
 
     const RunResult solve = runDaisy("solve " + scene + folder + " --cache-size 1G");
     ASSERT_EQ(solve.status, 0) << solve.output;
-    ASSERT_EQ(names(dir).size(), 1u);
+    ASSERT_EQ(fileNames(dir).size(), 1u);
     const RunResult list = runDaisy("cache list" + folder);
     ASSERT_EQ(list.status, 0) << list.output;
-    EXPECT_TRUE(contains(list.output, names(dir)[0])) << list.output;
+    EXPECT_TRUE(contains(list.output, fileNames(dir)[0])) << list.output;
     EXPECT_TRUE(contains(list.output, " patches, ")) << list.output;
     EXPECT_TRUE(contains(list.output, "F: ")) << list.output;
 }

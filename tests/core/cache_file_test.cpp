@@ -76,15 +76,8 @@ TEST(BinaryFileHash, Xxh64MatchesTheReferenceLibrary) {
 const CacheFileFormat kFormat{{'D', 'A', 'I', 'S', 'Y', 'T', 'S', 'T'}, 7, "test cache file"};
 const Hash128 kKey{0x0123456789abcdefull, 0xfedcba9876543210ull};
 
-std::string readBytes(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void writeBytes(const fs::path& path, const std::string& bytes) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << bytes;
-}
+using test::readBytes;
+using test::writeBytes;
 
 // An entry of kFormat: a uint32 tag, then `values` doubles (counts[0] says how many).
 class BinaryFile : public ::testing::Test {

@@ -40,13 +40,7 @@ fs::path writeEntry(const fs::path& dir, const std::string& name, std::size_t pa
     return path;
 }
 
-std::vector<std::string> names(const fs::path& dir) {
-    std::vector<std::string> found;
-    for (const auto& entry : fs::directory_iterator(dir))
-        found.push_back(entry.path().filename().string());
-    std::sort(found.begin(), found.end());
-    return found;
-}
+using test::fileNames;
 
 // The pid of a child that has exited and been reaped: no process has it (until the kernel
 // hands it out again, which takes a wrap of the pid space).
@@ -93,18 +87,18 @@ TEST_F(CacheFolder, EvictsLeastRecentlyUsedUntilUnderTheLimit) {
     EXPECT_EQ(report.entriesLeft, 2);
     EXPECT_EQ(report.bytesLeft, 2 * 1064u);
     EXPECT_TRUE(report.failures.empty());
-    EXPECT_EQ(names(dir_), (std::vector<std::string>{"b.dff", "c.dff"}));
+    EXPECT_EQ(fileNames(dir_), (std::vector<std::string>{"b.dff", "c.dff"}));
     // Under the limit already: nothing more goes.
     EXPECT_EQ(pruneCacheFolder(dir_, 2 * 1064).evicted, 0);
     EXPECT_EQ(pruneCacheFolder(dir_, 2 * 1064 - 1).evicted, 1);
-    EXPECT_EQ(names(dir_), std::vector<std::string>{"b.dff"});
+    EXPECT_EQ(fileNames(dir_), std::vector<std::string>{"b.dff"});
 }
 
 TEST_F(CacheFolder, KeepsTheEntryJustWritten) {
     // b is the oldest but was just written: the others go, b stays though alone over the limit.
     const CachePruneReport report = pruneCacheFolder(dir_, 1000, dir_ / "b.dff");
     EXPECT_EQ(report.evicted, 3);
-    EXPECT_EQ(names(dir_), std::vector<std::string>{"b.dff"});
+    EXPECT_EQ(fileNames(dir_), std::vector<std::string>{"b.dff"});
     EXPECT_EQ(report.bytesLeft, 1064u);
 }
 
@@ -149,7 +143,7 @@ TEST_F(CacheFolder, ClearRemovesEntriesAndNothingElse) {
     EXPECT_EQ(report.evicted, 4);
     EXPECT_EQ(report.entriesLeft, 0);
     EXPECT_EQ(report.liveTemporaries, 1);
-    EXPECT_EQ(names(dir_), (std::vector<std::string>{live, "notes.txt", "other.bin"}));
+    EXPECT_EQ(fileNames(dir_), (std::vector<std::string>{live, "notes.txt", "other.bin"}));
 }
 
 TEST(CacheFolderNames, TemporaryWriterPid) {

@@ -51,15 +51,8 @@ FormFactorKey builtKey() {
     return formFactorKey(built().patches, built().settings, "cpu");
 }
 
-std::string readBytes(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void writeBytes(const fs::path& path, const std::string& bytes) {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out << bytes;
-}
+using test::readBytes;
+using test::writeBytes;
 
 template <typename T>
 void put(std::string& bytes, std::size_t offset, T value) {
