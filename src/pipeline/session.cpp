@@ -6,7 +6,6 @@
 #include <future>
 #include <mutex>
 #include <new>
-#include <numbers>
 
 #include "core/check.h"
 #include "core/log.h"
