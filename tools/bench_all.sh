@@ -78,7 +78,8 @@ else
     rounds="${rounds:-3}"
 fi
 wallEdit='white.reflectance=rgb(0.5,0.5,0.5)'
-lavapipe="/usr/share/vulkan/icd.d/lvp_icd.x86_64.json"
+# Mesa's lavapipe manifest: lvp_icd.json from Mesa 25, lvp_icd.<arch>.json before.
+lavapipe=$(ls /usr/share/vulkan/icd.d/lvp_icd.json /usr/share/vulkan/icd.d/lvp_icd.*.json 2>/dev/null | head -1)
 
 work="$(mktemp -d "${TMPDIR:-/tmp}/bench_all.XXXXXX")"
 trap 'rm -rf "$work"' EXIT
