@@ -17,6 +17,15 @@
 
 namespace daisy::test {
 
+// The pid of a process that has exited and been reaped (for stale-temporary tests).
+inline int deadPid() {
+    const pid_t child = fork();
+    if (child == 0) _exit(0);
+    int status = 0;
+    waitpid(child, &status, 0);
+    return child;
+}
+
 // A directory unique to the running test, created empty, under the system temp directory.
 inline std::filesystem::path testTempDir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();

@@ -13,6 +13,7 @@
 #include "bench/path_bench.h"
 #include "bench/stress.h"
 #include "bench/sweep.h"
+#include "core/atomic_file.h"
 #include "core/log.h"
 #include "core/strings.h"
 #include "core/timer.h"
@@ -21,6 +22,12 @@ namespace daisy::app {
 namespace {
 
 int runStress(const CommonOptions& options, const BenchOptions& bench) {
+    // An unwritable -o fails now, not after the suite (core/atomic_file.h).
+    auto reserved = reserveOutputs({bench.outputPath});
+    if (!reserved) {
+        logError(reserved.error().message);
+        return 2;
+    }
     StressSettings settings;
     settings.quick = bench.quick;
     settings.threads = options.threads;
@@ -61,6 +68,8 @@ Expected<int> runSweep(const CommonOptions& options, const BenchOptions& bench) 
     sweepOptions.session = sessionSettingsFrom(options, PatchSizeDefault::InputTriangles);
     sweepOptions.quick = bench.quick;
     const SweepFiles files = sweepFiles(options.scenePath, bench.outputPath, options.cacheDir);
+    auto reserved = reserveOutputs({files.csv, files.chart, files.referenceImage});
+    if (!reserved) return reserved.error();
     auto sweep = SettingsSweep::open(sweepOptions);
     if (!sweep) return sweep.error();
     auto reference = sweep->reference(files.referenceCache);
@@ -114,6 +123,10 @@ Expected<int> runPathBench(const CommonOptions& options, const BenchOptions& ben
     benchOptions.quick = bench.quick;
     benchOptions.referenceSpp = bench.referenceSpp;
     benchOptions.referenceNoisePercent = bench.referenceNoise;
+    const PathBenchFiles files =
+        pathBenchFiles(options.scenePath, bench.outputPath, options.cacheDir);
+    auto reserved = reserveOutputs({files.csv, files.chart, files.referenceImage});
+    if (!reserved) return reserved.error();
     auto pathBench = PathBench::open(benchOptions);
     if (!pathBench) return pathBench.error();
     const auto failed = [](const Error& error) {
@@ -121,8 +134,6 @@ Expected<int> runPathBench(const CommonOptions& options, const BenchOptions& ben
         return 1;
     };
     if (auto prepared = pathBench->prepare(); !prepared) return failed(prepared.error());
-    const PathBenchFiles files =
-        pathBenchFiles(options.scenePath, bench.outputPath, options.cacheDir);
     auto reference = pathBench->reference(files.referenceCache);
     if (!reference) return reference.error();
     logInfo(concat("bench: reference ", reference->spp, " spp, ",

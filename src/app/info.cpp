@@ -18,7 +18,7 @@ void printRow(const char* label, const std::string& value) {
 std::string materialList(const Scene& scene) {
     std::string out;
     for (const Material& material : scene.materials) {
-        out += "\n    " + material.name;
+        out += "\n    " + printable(material.name);
         if (material.isEmissive()) out += " (emissive)";
         if (material.isFluorescent()) out += " (fluorescent)";
     }
@@ -33,7 +33,7 @@ std::string point(const Vec3d& p) {
 std::string cameraList(const Scene& scene) {
     std::string out;
     for (const Camera& camera : scene.cameras)
-        out += (out.empty() ? "" : ", ") + camera.name;
+        out += (out.empty() ? "" : ", ") + printable(camera.name);
     return out.empty() ? "none (automatic framing)" : out;
 }
 
@@ -46,7 +46,7 @@ std::string lightList(const Scene& scene) {
         const char* type = directional                ? "directional"
             : light.type == PunctualLight::Type::Spot ? "spot"
                                                       : "point";
-        out += concat(k == 0 ? " " : ", ", type, " '", light.name, "' ",
+        out += concat(k == 0 ? " " : ", ", type, " '", printable(light.name), "' ",
                       formatNumber(light.intensity, 6), directional ? " lx" : " cd");
     }
     return out;

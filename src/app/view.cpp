@@ -5,6 +5,7 @@
 
 #include "app/commands.h"
 #include "app/session_options.h"
+#include "core/atomic_file.h"
 #include "core/interrupt.h"
 #include "core/log.h"
 #include "core/strings.h"
@@ -51,9 +52,16 @@ int runView(const CommonOptions& options, const ViewOptions& view) {
         }
         return {};
     };
-    if (const std::string why = viewer::windowUnavailable(); !why.empty()) {
-        logError(why);
-        return 1;
+    if (const auto unavailable = viewer::viewerUnavailable(options.device);
+        !unavailable.why.empty()) {
+        logError(unavailable.why);
+        return unavailable.status;
+    }
+    // An unwritable --screenshot fails now, not after the frames (core/atomic_file.h).
+    auto screenshot = reserveOutputs({view.screenshotPath});
+    if (!screenshot) {
+        logError(screenshot.error().message);
+        return 2;
     }
     auto session = openSession(options, PatchSizeDefault::Automatic, checkScene);
     if (!session) return 2;

@@ -1,10 +1,12 @@
 #include "core/atomic_file.h"
 
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <utility>
 #include <vector>
 
@@ -31,6 +33,48 @@ std::string temporaryPathFor(const std::string& path) {
     return path + ".tmp-" + std::to_string(getpid());
 }
 
+int temporaryWriterPid(std::string_view fileName) {
+    const std::size_t at = fileName.rfind(".tmp-");
+    if (at == std::string_view::npos || at == 0) return -1;
+    const std::string_view digits = fileName.substr(at + 5);
+    if (digits.empty() || digits.size() > 9) return -1;
+    int pid = 0;
+    for (char c : digits) {
+        if (c < '0' || c > '9') return -1;
+        pid = pid * 10 + (c - '0');
+    }
+    return pid > 0 ? pid : -1;
+}
+
+bool processIsAlive(int pid) {
+    return pid > 0 && (::kill(pid, 0) == 0 || errno == EPERM);
+}
+
+namespace {
+
+// Removes the temporaries "<path>.tmp-<pid>" that killed writers of `path` left.
+void removeDeadWritersTemporaries(const std::string& path) {
+    const std::filesystem::path target(path);
+    const std::string prefix = target.filename().string() + ".tmp-";
+    const std::filesystem::path folder =
+        target.has_parent_path() ? target.parent_path() : std::filesystem::path(".");
+    std::error_code error;
+    std::filesystem::directory_iterator it(folder, error);
+    for (; !error && it != std::filesystem::directory_iterator(); it.increment(error)) {
+        const std::string name = it->path().filename().string();
+        if (!name.starts_with(prefix)) continue;
+        const int pid = temporaryWriterPid(name);
+        if (pid <= 0 || std::string_view(name).substr(0, name.rfind(".tmp-") + 5) != prefix ||
+            pid == getpid() || processIsAlive(pid)) {
+            continue;
+        }
+        std::error_code ignored;
+        if (it->is_regular_file(ignored)) std::filesystem::remove(it->path(), ignored);
+    }
+}
+
+}  // namespace
+
 namespace {
 
 // Creates (truncates) the temporary sibling of `path`, registered for removal on interrupt, and
@@ -39,6 +83,7 @@ Expected<std::FILE*> openTemporary(const std::string& path) {
     if (const std::string problem = outputProblem(path); !problem.empty()) {
         return Error{cannotWrite(path, problem)};
     }
+    removeDeadWritersTemporaries(path);
     const std::string temporary = temporaryPathFor(path);
     registerTempFile(temporary);
     std::FILE* file = std::fopen(temporary.c_str(), "wb");

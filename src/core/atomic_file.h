@@ -3,10 +3,13 @@
 // to a temporary sibling ("<path>.tmp-<pid>"), is flushed and closed, then renamed over `path`
 // (atomic on POSIX file systems). On any failure the temporary is removed and the Error names
 // the path and the cause. While it exists the temporary is registered with core/interrupt.h, so
-// SIGINT / SIGTERM remove it too.
+// SIGINT / SIGTERM remove it too. A writer killed outright (SIGKILL, power loss) cannot remove
+// its temporary: the next write of the same path removes every "<path>.tmp-<pid>" whose process
+// is gone.
 #include <cstdio>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/expected.h"
@@ -20,6 +23,12 @@ Expected<void> writeFileAtomically(const std::string& path,
 
 // The temporary sibling writeFileAtomically uses for `path`.
 std::string temporaryPathFor(const std::string& path);
+
+// The pid in a temporary's file name "<name>.tmp-<pid>", or -1 when it is not one.
+int temporaryWriterPid(std::string_view fileName);
+
+// Whether process `pid` exists (kill(pid, 0) succeeds or is refused for permission).
+bool processIsAlive(int pid);
 
 // An output reserved before any expensive work: open() checks that `path` can be written (its
 // folder exists, it is not a folder) by creating the temporary sibling, so a bad -o fails in

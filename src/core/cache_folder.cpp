@@ -64,23 +64,6 @@ void removeStaleTemporaries(const CacheFolderListing& listing, CachePruneReport&
 
 }  // namespace
 
-int temporaryWriterPid(std::string_view fileName) {
-    const std::size_t at = fileName.rfind(".tmp-");
-    if (at == std::string_view::npos || at == 0) return -1;
-    const std::string_view digits = fileName.substr(at + 5);
-    if (digits.empty() || digits.size() > 9) return -1;
-    int pid = 0;
-    for (char c : digits) {
-        if (c < '0' || c > '9') return -1;
-        pid = pid * 10 + (c - '0');
-    }
-    return pid > 0 ? pid : -1;
-}
-
-bool processIsAlive(int pid) {
-    return pid > 0 && (::kill(pid, 0) == 0 || errno == EPERM);
-}
-
 CacheFolderListing listCacheFolder(const std::filesystem::path& directory) {
     CacheFolderListing listing;
     std::error_code error;

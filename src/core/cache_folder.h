@@ -19,6 +19,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/cache_file.h"
 
 namespace daisy {
@@ -78,11 +79,5 @@ CachePruneReport pruneCacheFolder(const std::filesystem::path& directory, uint64
 
 // Removes every entry and every stale temporary; a running writer's temporary is kept.
 CachePruneReport clearCacheFolder(const std::filesystem::path& directory);
-
-// The pid in a temporary's file name "<name>.tmp-<pid>", or -1 when it is not one.
-int temporaryWriterPid(std::string_view fileName);
-
-// Whether process `pid` exists (kill(pid, 0) succeeds or is refused for permission).
-bool processIsAlive(int pid);
 
 }  // namespace daisy

@@ -3,6 +3,8 @@
 #include <atomic>
 #include <cstdio>
 
+#include "core/strings.h"
+
 namespace daisy {
 namespace {
 
@@ -10,6 +12,11 @@ std::atomic<Verbosity> gVerbosity{Verbosity::Normal};
 
 void print(const char* prefix, const std::string& message) {
     std::fprintf(stderr, "%s%s\n", prefix, message.c_str());
+}
+
+// Errors and warnings are one line each, whatever names from files they quote.
+void printOneLine(const char* prefix, const std::string& message) {
+    print(prefix, printable(message));
 }
 
 }  // namespace
@@ -22,7 +29,7 @@ Verbosity verbosity() {
 }
 
 void logWarning(const std::string& message) {
-    if (gVerbosity != Verbosity::Quiet) print("warning: ", message);
+    if (gVerbosity != Verbosity::Quiet) printOneLine("warning: ", message);
 }
 
 void logInfo(const std::string& message) {
@@ -34,7 +41,7 @@ void logVerbose(const std::string& message) {
 }
 
 void logError(const std::string& message) {
-    print("error: ", message);
+    printOneLine("error: ", message);
 }
 
 }  // namespace daisy

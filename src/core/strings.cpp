@@ -38,6 +38,39 @@ std::string formatCount(uint64_t count) {
     return std::string(out, static_cast<std::size_t>(used));
 }
 
+std::string printable(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    for (const char c : text) {
+        const auto byte = static_cast<unsigned char>(c);
+        if (byte >= 0x20 && byte != 0x7F) {
+            out += c;
+            continue;
+        }
+        switch (c) {
+            case '\n':
+                out += "\\n";
+                break;
+            case '\t':
+                out += "\\t";
+                break;
+            case '\r':
+                out += "\\r";
+                break;
+            case '\0':
+                out += "\\0";
+                break;
+            default: {
+                const char* digits = "0123456789abcdef";
+                out += "\\x";
+                out += digits[byte >> 4];
+                out += digits[byte & 15];
+            }
+        }
+    }
+    return out;
+}
+
 std::string toLower(std::string_view text) {
     std::string out(text);
     for (char& c : out)

@@ -37,6 +37,11 @@ std::string concat(const Args&... args) {
 
 std::string toLower(std::string_view text);
 
+// `text` with every control character (below 0x20, and 0x7F) written as a C escape ("\n", "\t",
+// "\r", "\0", "\x1b") and backslashes left as they are, so a name from a file prints on one
+// line and whole: a newline cannot start a forged "error:" line, a NUL cannot cut the message.
+std::string printable(std::string_view text);
+
 // "1.5 GiB", "12 KiB", "800 B": binary units, three significant digits.
 std::string formatBytes(double bytes);
 

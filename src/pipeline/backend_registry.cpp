@@ -3,6 +3,7 @@
 #include "core/strings.h"
 
 #if DAISY_HAVE_VULKAN
+#include "vulkan/context.h"
 #include "vulkan/vulkan_backend.h"
 #endif
 #if DAISY_HAVE_CUDA
@@ -90,9 +91,10 @@ std::string resolveBackendName(const std::string& name) {
     return "cpu";
 }
 
-Expected<std::unique_ptr<Backend>> makeBackend(const std::string& requested,
-                                               const BackendOptions& options) {
-    const std::string name = resolveBackendName(requested);
+namespace {
+
+// The entry of `name`, or the error makeBackend gives for an unknown or not-built backend.
+Expected<const BackendEntry*> builtInEntry(const std::string& name) {
     const BackendEntry* entry = findEntry(name);
     if (!entry) {
         std::string known;
@@ -107,7 +109,39 @@ Expected<std::unique_ptr<Backend>> makeBackend(const std::string& requested,
         return Error{concat("backend '", name, "' is not built into this binary (",
                             entry->notBuiltReason, "; built in: ", built, ")")};
     }
-    return entry->make(options);
+    return entry;
+}
+
+}  // namespace
+
+Expected<void> checkBackendRunsHere(const std::string& requested) {
+    const std::string name = resolveBackendName(requested);
+    auto entry = builtInEntry(name);
+    if (!entry) return entry.error();
+#if DAISY_HAVE_CUDA
+    if (name == "cuda" && !cudaDevicePresent()) {
+        return Error{"no CUDA device here (use --backend auto, cpu or vulkan)"};
+    }
+#endif
+#if DAISY_HAVE_VULKAN
+    if (name == "vulkan") {
+        auto devices = listVulkanDevices();
+        if (!devices) return devices.error();
+        bool usable = false;
+        for (const VulkanDeviceInfo& device : *devices)
+            usable = usable || device.unsupported.empty();
+        if (!usable) return Error{"no Vulkan device here can run the compute backend"};
+    }
+#endif
+    return {};
+}
+
+Expected<std::unique_ptr<Backend>> makeBackend(const std::string& requested,
+                                               const BackendOptions& options) {
+    const std::string name = resolveBackendName(requested);
+    auto entry = builtInEntry(name);
+    if (!entry) return entry.error();
+    return (*entry)->make(options);
 }
 
 }  // namespace daisy

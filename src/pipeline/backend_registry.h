@@ -40,6 +40,13 @@ std::string resolveBackendName(const std::string& name);
 // The family of a backend name ("cpu", "kernel"); empty for unknown names.
 std::string backendFamily(const std::string& name);
 
+// Whether backend `name` could build F here, by a cheap probe and without making it: an error as
+// makeBackend's for an unknown or not-built backend, or a missing CUDA or Vulkan device. The
+// session checks an explicit --backend with it before reading F from the cache, so that
+// `--backend cuda` without a CUDA device fails instead of returning a cached F that another
+// backend of its family built.
+Expected<void> checkBackendRunsHere(const std::string& name);
+
 // The backend called `name` ("auto" resolves as above). Errors: unknown names, backends not built
 // into this binary (with the configure option that builds them), a missing device.
 Expected<std::unique_ptr<Backend>> makeBackend(const std::string& name,

@@ -264,6 +264,11 @@ Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel,
     Timer timer;
     std::optional<FormFactorCache> cache;
     FormFactorKey key;
+    if (s.settings.cacheDirectory && !s.settings.backendInstance && s.settings.backend != "auto") {
+        if (auto runs = checkBackendRunsHere(s.settings.backend); !runs) {
+            return Error{concat("--backend ", s.settings.backend, ": ", runs.error().message)};
+        }
+    }
     if (s.settings.cacheDirectory) {
         cache.emplace(*s.settings.cacheDirectory, s.settings.cacheSizeBytes);
         key = formFactorKey();

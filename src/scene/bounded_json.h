@@ -22,7 +22,13 @@ inline constexpr std::size_t kMaxJsonBytes = std::size_t(512) << 20;
 // Parses `text`; errors (without the file name, which the caller adds) read "invalid JSON at
 // line 3, column 7: ...", "JSON nests deeper than 64 levels at byte 812" or "the JSON text is
 // 600 MiB, over the 512 MiB limit".
-Expected<nlohmann::json> parseBoundedJson(std::string_view text, int maxDepth = kMaxJsonDepth);
+// With Keys::Unique, an object that names a key twice is refused ("floor: the key \"reflectance\"
+// appears twice in this object"): nlohmann keeps the last silently, and in a file a person edits
+// by hand (--materials) which one was meant is a guess. glTF files keep nlohmann's rule, as
+// tinygltf and other readers do.
+enum class JsonKeys { LastWins, Unique };
+Expected<nlohmann::json> parseBoundedJson(std::string_view text, int maxDepth = kMaxJsonDepth,
+                                          JsonKeys keys = JsonKeys::LastWins);
 
 // object[key] when `object` is an object holding `key`, else null.
 const nlohmann::json* jsonMember(const nlohmann::json& object, const char* key);

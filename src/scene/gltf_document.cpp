@@ -76,9 +76,35 @@ std::filesystem::path uriFile(const std::string& folder, const std::string& uri)
 }
 
 // Why `uri` cannot name the file of `where`, or "" when it can (or is a data: uri).
+// Why a data: uri cannot hold the bytes tinygltf would decode from it, or "" when it can: glTF
+// embeds data as "data:<mime>;base64,<base64>" (RFC 2397).
+std::string dataUriProblem(const std::string& uri) {
+    const std::size_t comma = uri.find(',');
+    if (comma == std::string::npos || uri.substr(0, comma).find(";base64") == std::string::npos) {
+        return "the data: uri is not base64 (\"data:<type>;base64,...\" expected)";
+    }
+    const std::string_view payload = std::string_view(uri).substr(comma + 1);
+    if (payload.empty()) return "the data: uri holds no data";
+    std::size_t padding = 0;
+    for (std::size_t k = 0; k < payload.size(); ++k) {
+        const char c = payload[k];
+        const bool digit = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') ||
+            (c >= '0' && c <= '9') || c == '+' || c == '/';
+        if (c == '=' && padding < 2) {
+            ++padding;
+            continue;
+        }
+        if (!digit || padding > 0) {
+            return concat("the data: uri is not base64: character ", comma + 1 + k + 1, " is ", "'",
+                          printable(std::string_view(&c, 1)), "'");
+        }
+    }
+    return {};
+}
+
 std::string uriProblem(const std::string& folder, const std::string& uri, uint64_t& fileBytes) {
     fileBytes = 0;
-    if (uri.starts_with("data:")) return {};
+    if (uri.starts_with("data:")) return dataUriProblem(uri);
     std::error_code ec;
     const std::filesystem::path file = uriFile(folder, uri);
     const auto status = std::filesystem::status(file, ec);

@@ -73,16 +73,22 @@ Expected<std::vector<PunctualLight>> readGltfLights(const nlohmann::json& root) 
         light.intensity = *intensity;
         auto range = number(object, "range", 0, 0, 1e30, where);
         if (!range) return range.error();
+        if (jsonMember(object, "range") != nullptr && !(*range > 0)) {
+            return Error{where +
+                         ".range: 0 is not allowed (glTF: range > 0; leave it out for "
+                         "an unlimited range)"};
+        }
         light.range = *range;
         if (light.type == PunctualLight::Type::Spot) {
             const nlohmann::json* spot = jsonMember(object, "spot");
-            const nlohmann::json empty = nlohmann::json::object();
             const std::string spotWhere = where + ".spot";
-            auto outer = number(spot != nullptr ? *spot : empty, "outerConeAngle",
-                                std::numbers::pi / 4, 0, std::numbers::pi / 2, spotWhere);
+            if (spot == nullptr || !spot->is_object()) {
+                return Error{spotWhere + ": a spot light needs its spot object (it may be {})"};
+            }
+            auto outer = number(*spot, "outerConeAngle", std::numbers::pi / 4, 0,
+                                std::numbers::pi / 2, spotWhere);
             if (!outer) return outer.error();
-            auto inner =
-                number(spot != nullptr ? *spot : empty, "innerConeAngle", 0, 0, *outer, spotWhere);
+            auto inner = number(*spot, "innerConeAngle", 0, 0, *outer, spotWhere);
             if (!inner) return inner.error();
             light.innerConeRad = *inner;
             light.outerConeRad = *outer;
@@ -120,8 +126,15 @@ Expected<std::optional<PunctualLight>> placeGltfLight(const nlohmann::json& node
     const GltfMatrix& m = world;
     light.position = {m[12], m[13], m[14]};
     const Vec3d direction{-m[8], -m[9], -m[10]};  // the node's -z
-    if (!(length(direction) > 0)) return Error{where + ": the node's transform is degenerate"};
-    light.direction = normalize(direction);
+    if (light.type != PunctualLight::Type::Point) {
+        // A point light needs only its position, which a zero scale keeps.
+        if (!(length(direction) > 0)) {
+            return Error{where + ": the node's transform is degenerate (no direction for the " +
+                         (light.type == PunctualLight::Type::Spot ? "spot" : "directional") +
+                         " light)"};
+        }
+        light.direction = normalize(direction);
+    }
     return std::optional<PunctualLight>{std::move(light)};
 }
 

@@ -12,7 +12,9 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <optional>
 #include <set>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -440,6 +442,7 @@ private:
                 return withContext(appended.error(),
                                    concat("meshes[", meshIndex, "].primitives[", p, "]"));
             }
+            warnMissingTexCoords(meshIndex, p);
             if (!skipped.empty() &&
                 std::find(skippedModes.begin(), skippedModes.end(), skipped) ==
                     skippedModes.end()) {
@@ -459,6 +462,28 @@ private:
                        " primitives skipped (only triangles become patches)"));
         }
         return {};
+    }
+
+    // A texture of the primitive's material that reads a TEXCOORD_<n> the primitive does not have
+    // is sampled at (0, 0) everywhere: one warning per primitive and set (instances share it).
+    void warnMissingTexCoords(int meshIndex, std::size_t p) {
+        const tinygltf::Primitive& primitive =
+            model_.meshes[static_cast<std::size_t>(meshIndex)].primitives[p];
+        if (!inRange(primitive.material, defaultMaterial_)) return;
+        const Material& material = scene_.materials[static_cast<std::size_t>(primitive.material)];
+        const std::pair<const char*, const std::optional<TextureRef>*> textures[] = {
+            {"pbrMetallicRoughness.baseColorTexture", &material.baseColorTexture},
+            {"emissiveTexture", &material.emissiveTexture}};
+        for (const auto& [name, ref] : textures) {
+            if (!ref->has_value() || (*ref)->texCoord > 1) continue;  // sets 2+ warn on load
+            const std::string set = concat("TEXCOORD_", (*ref)->texCoord);
+            if (primitive.attributes.count(set) != 0) continue;
+            if (!warnedTexCoords_.insert({meshIndex, p, (*ref)->texCoord}).second) continue;
+            scene_.warnings.push_back(
+                concat(path_, ": meshes[", meshIndex, "].primitives[", p, "] has no ", set,
+                       ", which ", "materials[", primitive.material, "].", name,
+                       " reads: the texture is sampled at (0, 0) on the whole primitive"));
+        }
     }
 
     // `skipped` is set to the mode's name when the primitive is points or lines.
@@ -605,6 +630,7 @@ private:
     uint32_t defaultMaterial_ = 0;
     bool usesDefault_ = false;
     std::set<int> warnedMeshes_;
+    std::set<std::tuple<int, std::size_t, int>> warnedTexCoords_;  // (mesh, primitive, set)
     std::vector<PunctualLight> lights_;  // the file's light list (KHR_lights_punctual)
 };
 
@@ -675,6 +701,10 @@ Expected<ParsedFile> parseFile(const std::string& path, LoadBudget& budget,
         return ok.error();
     }
 
+    // The lights are read again by the scene builder; reading them here first gives their
+    // errors a place (tinygltf says only "Spot light description not found.").
+    if (auto lights = readGltfLights(parsed.root); !lights) return lights.error();
+
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(&keepEncodedGltfImage, nullptr);
     std::string error, warning;
@@ -700,7 +730,8 @@ Expected<ParsedFile> parseFile(const std::string& path, LoadBudget& budget,
         // Unreadable images are reported once each, by name, where a material uses them
         // (gltf_textures.h).
         const bool aboutImage = line.find("for image[") != std::string::npos ||
-            line.rfind("File not found", 0) == 0 || line.find("image[") != std::string::npos;
+            line.rfind("File not found", 0) == 0 || line.rfind("File read error", 0) == 0 ||
+            line.find("image[") != std::string::npos;
         if (!line.empty() && !aboutImage) warnings.push_back(path + ": " + line);
         start = end + 1;
     }

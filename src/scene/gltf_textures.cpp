@@ -3,6 +3,7 @@
 #include <tiny_gltf.h>
 
 #include <cmath>
+#include <filesystem>
 #include <string_view>
 
 #include "core/strings.h"
@@ -46,6 +47,20 @@ TextureWrap wrapOf(int mode) {
     return TextureWrap::Repeat;
 }
 
+// Why tinygltf handed over no bytes for `image`.
+std::string unreadableImage(const tinygltf::Image& image, const std::string& scenePath) {
+    if (!image.uri.empty() && !image.uri.starts_with("data:")) {
+        const std::filesystem::path file =
+            std::filesystem::path(scenePath).parent_path() / image.uri;
+        std::error_code error;
+        if (!std::filesystem::exists(file, error)) return "the image file does not exist";
+        if (std::filesystem::file_size(file, error) == 0 && !error) {
+            return "the image file is empty (0 bytes)";
+        }
+    }
+    return "the image cannot be read (no data)";
+}
+
 }  // namespace
 
 bool keepEncodedGltfImage(tinygltf::Image* target, int, std::string*, std::string*, int, int,
@@ -65,9 +80,8 @@ Expected<int> GltfTextures::imageTexture(int image) {
                                                                         : std::string());
     int index = -1;
     if (source.image.empty()) {
-        scene_.warnings.push_back(concat(path_, ": ", name,
-                                         ": the image cannot be read (missing file or no data); "
-                                         "the textures using it are dropped"));
+        scene_.warnings.push_back(concat(path_, ": ", name, ": ", unreadableImage(source, path_),
+                                         "; the textures using it are dropped"));
     } else {
         const std::string_view bytes(reinterpret_cast<const char*>(source.image.data()),
                                      source.image.size());

@@ -69,7 +69,7 @@ Expected<nlohmann::json> readJsonFile(const std::string& path) {
     in.read(text.data(), std::streamsize(text.size()));
     if (in.bad()) return Error{path + ": read failed"};
     text.resize(std::size_t(in.gcount()));
-    auto parsed = parseBoundedJson(text);
+    auto parsed = parseBoundedJson(text, kMaxJsonDepth, JsonKeys::Unique);
     if (!parsed) return withContext(parsed.error(), path);
     return parsed;
 }

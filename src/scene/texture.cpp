@@ -91,15 +91,66 @@ std::array<float, 3> sampleTexture(const TextureImage& image, const TextureRef& 
     return out;
 }
 
+namespace {
+
+enum class ImageKind { Png, Jpeg, Other };
+
+ImageKind imageKind(std::string_view bytes) {
+    if (bytes.starts_with("\x89PNG\r\n\x1a\n")) return ImageKind::Png;
+    if (bytes.starts_with("\xff\xd8\xff")) return ImageKind::Jpeg;
+    return ImageKind::Other;
+}
+
+uint32_t bigEndian32(std::string_view bytes, std::size_t at) {
+    uint32_t value = 0;
+    for (std::size_t k = 0; k < 4; ++k)
+        value = (value << 8) | static_cast<unsigned char>(bytes[at + k]);
+    return value;
+}
+
+// What is wrong with an image stb_image cannot read, in words that name the format: stb tries
+// every format in turn and reports the last one's complaint ("bad png sig" for a truncated
+// JPEG), and refuses a PNG over 2^30 decoded bytes as "unknown image type".
+std::string undecodable(std::string_view bytes) {
+    constexpr const char* kRead = "; PNG and JPEG are read";
+    if (bytes.empty()) return concat("the image is empty (0 bytes)", kRead);
+    switch (imageKind(bytes)) {
+        case ImageKind::Png:
+            // IHDR: the first chunk, width and height at bytes 16 and 20, the colour type at 25.
+            if (bytes.size() >= 26 && bytes.substr(12, 4) == "IHDR") {
+                const uint64_t width = bigEndian32(bytes, 16), height = bigEndian32(bytes, 20);
+                const auto colour = static_cast<unsigned char>(bytes[25]);
+                const uint64_t channels = ((colour & 2) ? 3 : 1) + ((colour & 4) ? 1 : 0);
+                if (width * height * channels > (uint64_t(1) << 30)) {
+                    return concat("the PNG is ", width, " x ", height,
+                                  ", over the 2^30 decoded bytes the PNG reader accepts");
+                }
+            }
+            return concat("the PNG is corrupt or truncated (", formatBytes(double(bytes.size())),
+                          ")");
+        case ImageKind::Jpeg:
+            return concat("the JPEG is corrupt or truncated (", formatBytes(double(bytes.size())),
+                          ")");
+        case ImageKind::Other:
+            break;
+    }
+    std::string start;
+    for (std::size_t k = 0; k < std::min<std::size_t>(bytes.size(), 4); ++k) {
+        constexpr const char* kDigits = "0123456789abcdef";
+        const auto byte = static_cast<unsigned char>(bytes[k]);
+        start += concat(k ? " " : "", kDigits[byte >> 4], kDigits[byte & 15]);
+    }
+    return concat("not a PNG or JPEG (it starts with the bytes ", start, ")", kRead);
+}
+
+}  // namespace
+
 Expected<TextureImage> decodeTextureImage(std::string_view bytes, bool srgb, LoadBudget& budget) {
     int width = 0, height = 0, channels = 0;
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     const int size = static_cast<int>(std::min<std::size_t>(bytes.size(), INT32_MAX));
     if (stbi_info_from_memory(data, size, &width, &height, &channels) == 0) {
-        const char* reason = stbi_failure_reason();
-        return Error{concat("cannot decode the image (",
-                            reason != nullptr ? reason : "unknown format",
-                            "; PNG and JPEG are read)")};
+        return Error{undecodable(bytes)};
     }
     // stb's 8-bit copy and the float one.
     const uint64_t decodedBytes = uint64_t(width) * uint64_t(height) * 3 * (1 + sizeof(float));
@@ -108,12 +159,7 @@ Expected<TextureImage> decodeTextureImage(std::string_view bytes, bool srgb, Loa
         return charged.error();
     }
     stbi_uc* pixels = stbi_load_from_memory(data, size, &width, &height, &channels, 3);
-    if (pixels == nullptr) {
-        const char* reason = stbi_failure_reason();
-        return Error{concat("cannot decode the image (",
-                            reason != nullptr ? reason : "unknown format",
-                            "; PNG and JPEG are read)")};
-    }
+    if (pixels == nullptr) return Error{undecodable(bytes)};
     TextureImage image;
     image.width = width;
     image.height = height;

@@ -78,21 +78,31 @@ SceneExtent sceneExtent(const TriangleMesh& mesh) {
     return extent;
 }
 
+namespace {
+
+std::string describeExtent(const SceneExtent& extent) {
+    return concat("the geometry spans ", formatPoint(extent.low), " to ", formatPoint(extent.high),
+                  " (diagonal ", formatNumber(extent.diagonal, 4), ")");
+}
+
+Expected<void> checkLargestCoordinate(const std::string& file, const SceneExtent& extent) {
+    if (extent.largestCoordinate <= kMaxSceneCoordinate) return {};
+    return Error{concat(file, ": ", describeExtent(extent), "; coordinates up to ",
+                        formatNumber(extent.largestCoordinate, 4), " exceed the ",
+                        formatNumber(kMaxSceneCoordinate, 3),
+                        " that float32 form factors and ray tracing represent; rescale the "
+                        "scene (glTF units are metres)")};
+}
+
+}  // namespace
+
 Expected<void> checkRayTracingRange(const Scene& scene) {
     const std::string& file = scene.path;
     if (scene.mesh.triangles.empty()) return {};
     const SceneExtent extent = sceneExtent(scene.mesh);
     const double size = extent.diagonal;
-    const std::string box =
-        concat("the geometry spans ", formatPoint(extent.low), " to ", formatPoint(extent.high),
-               " (diagonal ", formatNumber(size, 4), ")");
-    if (extent.largestCoordinate > kMaxSceneCoordinate) {
-        return Error{concat(file, ": ", box, "; coordinates up to ",
-                            formatNumber(extent.largestCoordinate, 4), " exceed the ",
-                            formatNumber(kMaxSceneCoordinate, 3),
-                            " that float32 form factors and ray tracing represent; rescale the "
-                            "scene (glTF units are metres)")};
-    }
+    const std::string box = describeExtent(extent);
+    if (auto ok = checkLargestCoordinate(file, extent); !ok) return ok;
     if (size < kMinSceneDiagonal) {
         return Error{concat(file, ": ", box, ", under the ", formatNumber(kMinSceneDiagonal),
                             " that float32 form factors resolve (r^4 underflows); rescale the "
@@ -146,10 +156,8 @@ Expected<void> validateScene(Scene& scene) {
                             mesh.materials.size(), " material assignments")};
     }
 
-    std::size_t kept = 0;
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-        const auto& triangle = mesh.triangles[t];
-        for (uint32_t v : triangle) {
+        for (uint32_t v : mesh.triangles[t]) {
             if (v >= mesh.positions.size()) {
                 return Error{concat(file, ": triangle ", t, " uses vertex ", v, " of ",
                                     mesh.positions.size())};
@@ -159,6 +167,14 @@ Expected<void> validateScene(Scene& scene) {
             return Error{concat(file, ": triangle ", t, " uses material ", mesh.materials[t],
                                 " of ", scene.materials.size())};
         }
+    }
+    // Before degenerate triangles are dropped: geometry moved far from the origin (a node
+    // translated by 1e17) collapses to zero area in double and would vanish in silence.
+    if (auto ok = checkLargestCoordinate(file, sceneExtent(mesh)); !ok) return ok;
+
+    std::size_t kept = 0;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const auto& triangle = mesh.triangles[t];
         const Vec3d a = mesh.positions[triangle[0]];
         const Vec3d b = mesh.positions[triangle[1]];
         const Vec3d c = mesh.positions[triangle[2]];

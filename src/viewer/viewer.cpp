@@ -914,13 +914,32 @@ int Viewer::run() {
 
 }  // namespace
 
-std::string windowUnavailable() {
+ViewerUnavailable viewerUnavailable(const std::string& device) {
     if (!glfwInit()) {
-        return "daisy view: cannot open a window (no display: set DISPLAY, or run under xvfb-run)";
+        return {"daisy view: cannot open a window (no display: set DISPLAY, or run under xvfb-run)",
+                1};
     }
-    const bool vulkan = glfwVulkanSupported();
+    ViewerUnavailable result;
+    if (!glfwVulkanSupported()) {
+        result = {"daisy view: GLFW finds no Vulkan loader (install a Vulkan driver)", 1};
+    } else {
+        uint32_t extensionCount = 0;
+        const char** extensions = glfwGetRequiredInstanceExtensions(&extensionCount);
+        auto instance = createInstance(std::span<const char* const>(extensions, extensionCount));
+        if (!instance) {
+            result = {concat("daisy view: ", instance.error().message), 1};
+        } else {
+            DeviceRequirements requirements;
+            requirements.compute = false;
+            requirements.graphics = true;
+            if (auto picked = pickPhysicalDevice(*instance, device, requirements); !picked) {
+                result = {concat("daisy view: ", picked.error().message), device.empty() ? 1 : 2};
+            }
+            vkDestroyInstance(*instance, nullptr);
+        }
+    }
     glfwTerminate();
-    return vulkan ? "" : "daisy view: GLFW finds no Vulkan loader (install a Vulkan driver)";
+    return result;
 }
 
 int runViewer(Session session, const ViewerOptions& options) {

@@ -32,9 +32,15 @@ struct ViewerOptions {
     std::string wavelengthsText = "auto";  // --wavelengths as typed, for the panel
 };
 
-// The reason no window can open here (GLFW cannot reach a display, or finds no Vulkan loader),
-// or "" when one can: checked before the view factors so a missing display fails fast.
-std::string windowUnavailable();
+// Why the viewer cannot run here, checked before the view factors so that it fails in
+// milliseconds: GLFW cannot reach a display, there is no Vulkan loader or driver, or no device
+// with graphics matches `device` (--device). `status` is 2 for a --device that names no usable
+// device (a bad option), 1 for what the machine lacks; "" and 0 when the viewer can start.
+struct ViewerUnavailable {
+    std::string why;
+    int status = 0;
+};
+ViewerUnavailable viewerUnavailable(const std::string& device);
 
 // Runs the viewer on `session` (F built and solved) until the window closes, or for the test
 // mode's frames, and returns the exit status: 0, 2 for a bad --edit or --camera (checked before

@@ -95,6 +95,25 @@ TEST(CacheCli, NoCacheNeitherReadsNorWrites) {
     EXPECT_EQ(both.status, 2) << both.output;
 }
 
+// An explicit --backend that cannot run here fails even when the cache holds F from another
+// backend of its family: `--backend cuda` must not answer with the reference backend's F.
+TEST(CacheCli, ABackendThatCannotRunHereIsRefusedEvenOnACacheHit) {
+    const auto dir = test::testTempDir();
+    const std::string scene = kCornellBox + " --subdivide 0.2 --cache " + (dir / "cache").string() +
+        " -o " + (dir / "F.mtx").string();
+    const RunResult reference = runDaisy("formfactors " + scene + " --backend reference");
+    ASSERT_EQ(reference.status, 0) << reference.output;
+    ASSERT_EQ(entries(dir / "cache").size(), 1u);
+    const RunResult uncached =
+        runDaisy("formfactors " + kCornellBox + " --subdivide 0.2 --no-cache --backend cuda -o " +
+                 (dir / "G.mtx").string());
+    if (uncached.status == 0) GTEST_SKIP() << "the cuda backend runs here: " << uncached.output;
+    const RunResult cuda = runDaisy("formfactors " + scene + " --backend cuda");
+    EXPECT_EQ(cuda.status, 2) << cuda.output;
+    EXPECT_NE(cuda.output.find("error: --backend cuda: "), std::string::npos) << cuda.output;
+    EXPECT_EQ(cuda.output.find("from the cache"), std::string::npos) << cuda.output;
+}
+
 // A cache folder that cannot be created (its parent is a file) is a warning, not a failure.
 TEST(CacheCli, UnwritableCacheFolderIsAWarning) {
     const auto dir = test::testTempDir();

@@ -20,6 +20,7 @@
 #include <thread>
 #include <vector>
 
+#include "image/image_io.h"
 #include "test_util.h"
 
 namespace daisy::test {
@@ -82,6 +83,33 @@ std::string lampRoomGlb() {
 std::string replaceU32(std::string bytes, std::size_t offset, uint32_t value) {
     bytes.replace(offset, 4, std::string(reinterpret_cast<const char*>(&value), 4));
     return bytes;
+}
+
+// lamp_room with a 5 cd point light in the middle of the room (KHR_lights_punctual).
+json withPointLight(json room) {
+    room["extensionsUsed"].push_back("KHR_lights_punctual");
+    room["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 5}}};
+    room["nodes"].push_back({{"translation", {0.25, 0.25, 0.25}},
+                             {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    room["nodes"][0]["children"].push_back(room["nodes"].size() - 1);
+    return room;
+}
+
+// lamp_room with the floor's base colour read from the image at `uri`.
+json withTexture(json room, const std::string& uri) {
+    room["images"] = {{{"uri", uri}}};
+    room["textures"] = {{{"source", 0}}};
+    room["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    return room;
+}
+
+// The PNG signature and an IHDR chunk of a width x height 8-bit RGB image (CRC not checked).
+std::string pngHeader(uint32_t width, uint32_t height) {
+    const auto be32 = [](uint32_t v) {
+        return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+    };
+    return std::string("\x89PNG\r\n\x1a\n", 8) + be32(13) + "IHDR" + be32(width) + be32(height) +
+        std::string("\x08\x02\x00\x00\x00", 5) + be32(0);
 }
 
 // Builds the input of a row in `dir` and returns the daisy arguments.
@@ -199,11 +227,7 @@ const std::map<std::string, Case>& cases() {
          }},
         {"gltf-missing-texture",
          [](const auto& dir) {
-             json room = lampRoom();
-             room["images"] = {{{"uri", "missing.png"}}};
-             room["textures"] = {{{"source", 0}}};
-             room["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
-             return info(saveGltf(dir, "texture.gltf", room));
+             return info(saveGltf(dir, "texture.gltf", withTexture(lampRoom(), "missing.png")));
          }},
         {"gltf-scale-1e12",
          [](const auto& dir) {
@@ -218,6 +242,72 @@ const std::map<std::string, Case>& cases() {
              json room = lampRoom();
              room["nodes"][3]["translation"] = {1e18, 0, 0};
              return info(saveGltf(dir, "camera.gltf", room));
+         }},
+        {"gltf-node-1e17",
+         [](const auto& dir) {
+             json room = lampRoom();
+             room["nodes"][2]["translation"] = {0, 1e17, 0};
+             return info(saveGltf(dir, "far.gltf", room));
+         }},
+        {"materials-name-newline",
+         [](const auto& dir) {
+             const std::string materials = writeFile(
+                 dir, "m.json",
+                 R"({"flo\nor\nerror: fake": {"reflectance": {"wavelengths": [400, 700], "values": [0.5, 0.5]}}})");
+             return info(saveGltf(dir, "room.gltf", lampRoom()), " --materials " + materials);
+         }},
+        {"materials-duplicate-key",
+         [](const auto& dir) {
+             const std::string materials = writeFile(
+                 dir, "m.json",
+                 R"({"floor": {"reflectance": {"wavelengths": [400, 700], "values": [0.5, 0.5]}},)"
+                 R"( "floor": {"reflectance": {"wavelengths": [400, 700], "values": [0.2, 0.2]}}})");
+             return info(testDataPath("gltf/lamp_room.gltf"), " --materials " + materials);
+         }},
+        {"gltf-light-range-0",
+         [](const auto& dir) {
+             json room = withPointLight(lampRoom());
+             room["extensions"]["KHR_lights_punctual"]["lights"][0]["range"] = 0;
+             return info(saveGltf(dir, "range.gltf", room));
+         }},
+        {"gltf-spot-without-spot",
+         [](const auto& dir) {
+             json room = withPointLight(lampRoom());
+             room["extensions"]["KHR_lights_punctual"]["lights"][0]["type"] = "spot";
+             return info(saveGltf(dir, "spot.gltf", room));
+         }},
+        {"gltf-texcoord-1-missing",
+         [](const auto& dir) {
+             const std::vector<uint8_t> grey(2 * 2 * 3, 128);
+             EXPECT_TRUE(writePng((dir / "grey.png").string(), 2, 2, grey));
+             json room = withTexture(lampRoom(), "grey.png");
+             room["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1;
+             return info(saveGltf(dir, "uv.gltf", room));
+         }},
+        {"gltf-image-empty",
+         [](const auto& dir) {
+             writeFile(dir, "empty.png", "");
+             return info(saveGltf(dir, "texture.gltf", withTexture(lampRoom(), "empty.png")));
+         }},
+        {"gltf-image-truncated-jpeg",
+         [](const auto& dir) {
+             writeFile(dir, "cut.jpg",
+                       std::string("\xff\xd8\xff\xe0\x00\x10JFIF", 10) + std::string(21, '\0'));
+             return info(saveGltf(dir, "texture.gltf", withTexture(lampRoom(), "cut.jpg")));
+         }},
+        {"gltf-image-png-too-large",
+         [](const auto& dir) {
+             writeFile(dir, "huge.png", pngHeader(20000, 20000));
+             return info(saveGltf(dir, "texture.gltf", withTexture(lampRoom(), "huge.png")));
+         }},
+        {"gltf-image-base64",
+         [](const auto& dir) {
+             return info(saveGltf(dir, "texture.gltf",
+                                  withTexture(lampRoom(), "data:image/png;base64,@@@@")));
+         }},
+        {"bench-stress-unwritable-output",
+         [](const auto& dir) {
+             return "bench --stress --quick -o " + (dir / "missing" / "stress.csv").string();
          }},
         {"gltf-buffer-uri-dot",
          [](const auto& dir) {

@@ -44,14 +44,6 @@ using test::fileNames;
 
 // The pid of a child that has exited and been reaped: no process has it (until the kernel
 // hands it out again, which takes a wrap of the pid space).
-int deadPid() {
-    const pid_t child = fork();
-    if (child == 0) _exit(0);
-    int status = 0;
-    waitpid(child, &status, 0);
-    return child;
-}
-
 // Four entries of 1,064 bytes, used in the order b, d, a, c (c most recently).
 class CacheFolder : public ::testing::Test {
 protected:
@@ -111,7 +103,7 @@ TEST_F(CacheFolder, MarkingAUseSetsTheModificationTimeToNow) {
 
 TEST_F(CacheFolder, RemovesTemporariesOfDeadWritersOnly) {
     const std::string start(8, '\0');
-    const std::string dead = "e.dff.tmp-" + std::to_string(deadPid());
+    const std::string dead = "e.dff.tmp-" + std::to_string(test::deadPid());
     const std::string live = "f.dff.tmp-" + std::to_string(getpid());
     const std::string oldLive = "g.dff.tmp-" + std::to_string(getpid());
     test::writeFile(dir_, dead, "DAISYFF" + start);
@@ -153,7 +145,7 @@ TEST(CacheFolderNames, TemporaryWriterPid) {
     EXPECT_EQ(temporaryWriterPid("x.dff"), -1);
     EXPECT_EQ(temporaryWriterPid(".tmp-12"), -1);
     EXPECT_TRUE(processIsAlive(getpid()));
-    EXPECT_FALSE(processIsAlive(deadPid()));
+    EXPECT_FALSE(processIsAlive(test::deadPid()));
 }
 
 TEST(CacheFolderLimit, DefaultIsAtMostFourGiBAndATenthOfTheFreeSpace) {

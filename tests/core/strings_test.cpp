@@ -30,6 +30,14 @@ TEST(Strings, ParseByteSizeRejectsNonsense) {
     }
 }
 
+// Names from files print on one line and whole: control characters become C escapes.
+TEST(Strings, PrintableEscapesControlCharacters) {
+    EXPECT_EQ(printable("floor"), "floor");
+    EXPECT_EQ(printable("flo\nor\nerror: fake"), "flo\\nor\\nerror: fake");
+    EXPECT_EQ(printable(std::string("a\0b\t\r\x1b\x7f", 7)), "a\\0b\\t\\r\\x1b\\x7f");
+    EXPECT_EQ(printable("caf\xc3\xa9 \\n"), "caf\xc3\xa9 \\n");  // UTF-8 and backslashes kept
+}
+
 TEST(Strings, FormatBytes) {
     EXPECT_EQ(formatBytes(800), "800 B");
     EXPECT_EQ(formatBytes(1536), "1.50 KiB");

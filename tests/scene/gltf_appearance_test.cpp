@@ -228,8 +228,8 @@ TEST(GltfAppearance, AnUnreadableTextureIsOneWarningAndNotAPerfectReflector) {
     ASSERT_EQ(scene.warnings.size(), 2u);  // the image, and that nothing emits
     EXPECT_EQ(scene.warnings[0],
               path +
-                  ": images[0] 'missing.png': the image cannot be read "
-                  "(missing file or no data); the textures using it are "
+                  ": images[0] 'missing.png': the image file does not exist; the textures "
+                  "using it are "
                   "dropped");
     EXPECT_FALSE(scene.materials[0].baseColorTexture.has_value());
     EXPECT_EQ(scene.materials[0].baseColor, (std::array<double, 3>{0.8, 0.8, 0.8}));
@@ -381,6 +381,32 @@ TEST(GltfFeatures, PunctualLightsArePlacedByTheirNodes) {
               bad +
                   ": nodes[1]: extensions.KHR_lights_punctual.light: light 7 is out of range "
                   "(the file has 2)");
+}
+
+// A point light needs only its node's position, which a zero scale keeps; a spot light on such
+// a node has no direction and is refused with the place.
+TEST(GltfFeatures, APointLightOnAZeroScaleNodeKeepsItsPosition) {
+    GltfBuilder gltf;
+    gltf.addSingleTriangleScene({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+    gltf.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    gltf.doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}}};
+    const int node = gltf.addNode({{"translation", {0.25, 0.25, 1}},
+                                   {"scale", {0, 0, 0}},
+                                   {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    gltf.doc["scenes"][0]["nodes"].push_back(node);
+    const Scene scene = mustLoadScene(gltf.writeGltf(test::testTempDir(), "point.gltf"));
+    ASSERT_EQ(scene.lights.size(), 1u);
+    EXPECT_EQ(scene.lights[0].position, (Vec3d{0.25, 0.25, 1}));
+
+    gltf.doc["extensions"]["KHR_lights_punctual"]["lights"][0] = {
+        {"type", "spot"}, {"spot", nlohmann::json::object()}};
+    const std::string spot = gltf.writeGltf(test::testTempDir(), "spot.gltf");
+    auto refused = loadScene(spot, {});
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find(
+                  "extensions.KHR_lights_punctual.light: the node's transform is degenerate"),
+              std::string::npos)
+        << refused.error().message;
 }
 
 // libmeshoptimizer asserts (aborts) on a TRIANGLES count that is not a multiple of 3, a vertex

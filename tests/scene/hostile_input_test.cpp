@@ -57,6 +57,23 @@ TEST(BoundedJson, KeepsIntegersNullsAndEmptyMembersAsWritten) {
     EXPECT_EQ((*parsed)["d"].get<double>(), -4294967295.0);
 }
 
+// With JsonKeys::Unique a key named twice in one object is refused with the object's path; the
+// same key in two different objects is fine, and the default keeps nlohmann's last-wins rule.
+TEST(BoundedJson, UniqueKeysRefuseADuplicateWithItsPath) {
+    const std::string nested = R"({"a": [{"b": 1}, {"c": 1, "b": 2, "b": 3}], "b": 4})";
+    auto parsed = parseBoundedJson(nested, kMaxJsonDepth, JsonKeys::Unique);
+    ASSERT_FALSE(parsed);
+    EXPECT_EQ(parsed.error().message, "a[1]: the key \"b\" appears twice in this object");
+    auto top = parseBoundedJson(R"({"x": {}, "y": 1, "x": 2})", kMaxJsonDepth, JsonKeys::Unique);
+    ASSERT_FALSE(top);
+    EXPECT_EQ(top.error().message, "the key \"x\" appears twice at the top level");
+    auto lastWins = parseBoundedJson(nested);
+    ASSERT_TRUE(lastWins);
+    EXPECT_EQ((*lastWins)["a"][1]["b"], 3);
+    EXPECT_TRUE(parseBoundedJson(R"({"a": {"k": 1}, "b": {"k": 2}, "c": [{"k": 1}, {"k": 2}]})",
+                                 kMaxJsonDepth, JsonKeys::Unique));
+}
+
 TEST(GlbChunks, NamesTheFieldAndWhatWasExpected) {
     EXPECT_NE(splitGlb("glTF").error().message.find("fewer than the 12-byte header"),
               std::string::npos);
@@ -154,6 +171,23 @@ TEST(AtomicOutput, ReservesThePathAndRemovesItsTemporary) {
     }));
     EXPECT_TRUE(std::filesystem::exists(path));
     EXPECT_FALSE(std::filesystem::exists(temporaryPathFor(path)));
+}
+
+// A writer killed outright leaves "<path>.tmp-<pid>"; the next write of the same path removes it
+// when that process is gone, and leaves a live writer's temporary and other files' alone.
+TEST(AtomicOutput, RemovesTheTemporariesOfKilledWriters) {
+    const auto dir = test::testTempDir();
+    const std::string path = (dir / "out.png").string();
+    const std::string dead = "out.png.tmp-" + std::to_string(test::deadPid());
+    const std::string live = "out.png.tmp-" + std::to_string(getppid());
+    const std::string other = "other.png.tmp-" + std::to_string(test::deadPid());
+    for (const std::string& name : {dead, live, other})
+        test::writeFile(dir, name, "partial");
+    auto reserved = AtomicOutput::open(path);
+    ASSERT_TRUE(reserved);
+    EXPECT_FALSE(std::filesystem::exists(dir / dead));
+    EXPECT_TRUE(std::filesystem::exists(dir / live));
+    EXPECT_TRUE(std::filesystem::exists(dir / other));
 }
 
 }  // namespace

@@ -274,10 +274,11 @@ TEST(ViewCli, NoDisplayFailsBeforeTheViewFactors) {
     EXPECT_EQ(run.output.find("view factors"), std::string::npos) << run.output;
 }
 
-TEST(ViewCli, BadCameraAndEditFailBeforeTheViewFactors) {
+TEST(ViewCli, BadOptionsFailBeforeTheViewFactors) {
     for (const std::string& arguments :
          {kScene + " --camera nosuch --frames 1", kScene + " --edit 'floor.reflectance=rgb(0,1,0)'",
-          kScene + " --edit 'red.reflectance=rgb(3,0,0)'"}) {
+          kScene + " --edit 'red.reflectance=rgb(3,0,0)'", kScene + " --device 99 --frames 1",
+          kScene + " --frames 1 --screenshot /proc/no/such.png"}) {
         const RunResult run = runView(arguments);
         EXPECT_EQ(run.status, 2) << arguments << "\n" << run.output;
         EXPECT_EQ(run.output.find("view factors"), std::string::npos) << run.output;
