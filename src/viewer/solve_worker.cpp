@@ -130,6 +130,7 @@ void SolveWorker::publish(const std::string& message, bool solving) {
     if (!message.empty()) message_ = message;
     snapshot->message = message_;
     snapshot->refusedEdits = refusedEdits_;
+    snapshot->refusedMaterial = refusedMaterial_;
     if (session_.hasSolution() && !solving) {
         const SolverResult& result = session_.solution();
         snapshot->gathered = session_.lastGathered();
@@ -206,7 +207,11 @@ void SolveWorker::run() {
                 auto set = session_.setMaterial(command.index, std::move(command.material));
                 if (!set) {
                     ++refusedEdits_;
+                    refusedMaterial_ = command.index;
                     publish(concat("edit refused: ", set.error().message), false);
+                    // The refused edit cancelled the solve of what the session still holds
+                    // (an edit accepted a moment before): finish it.
+                    if (!session_.hasSolution() || !session_.solution().converged) solve(false);
                     break;
                 }
                 message_.clear();

@@ -39,6 +39,7 @@ struct DisplaySnapshot {
     bool solving = false;
     std::string message;  // the last refusal or error, one line; empty when none
     int refusedEdits = 0;  // material and wavelength edits refused so far
+    std::size_t refusedMaterial = SIZE_MAX;  // the material of the last refused edit
     // Seconds from the last material edit's post to this snapshot (-1 when no edit yet).
     double secondsSinceEdit = -1;
 };
@@ -109,6 +110,7 @@ private:
     double change_ = 0;
     std::string message_;
     int refusedEdits_ = 0;
+    std::size_t refusedMaterial_ = SIZE_MAX;
     double editPostedAt_ = -1;  // steady-clock seconds of the last edit's post
     std::thread thread_;
 };

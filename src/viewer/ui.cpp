@@ -84,7 +84,10 @@ void viewControls(UiState& state, const DisplaySnapshot& snapshot, const Scene& 
         }
         falseColourBar(state, snapshot);
     } else {
-        ImGui::Checkbox("auto exposure", &state.autoExposure);
+        // Switching the automatic exposure off keeps the picture as it is: EV starts at the
+        // exposure in use.
+        if (ImGui::Checkbox("auto exposure", &state.autoExposure) && !state.autoExposure)
+            state.ev = float(state.appliedEv);
         if (!state.autoExposure) ImGui::SliderFloat("EV", &state.ev, -12, 12, "%.2f");
     }
     ImGui::Checkbox("fly (WASD QE, drag to look)", &state.fly);
@@ -229,8 +232,19 @@ void drawPanel(UiState& state, const DisplaySnapshot& snapshot, SolveWorker& wor
     if (ImGui::CollapsingHeader("solver", ImGuiTreeNodeFlags_DefaultOpen))
         solverControls(state, snapshot, worker);
     if (ImGui::CollapsingHeader("materials")) {
-        if (!snapshot.message.empty())
-            ImGui::TextColored(ImVec4(1, 0.4f, 0.3f, 1), "%s", snapshot.message.c_str());
+        if (!snapshot.message.empty()) {
+            ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.3f, 1));
+            ImGui::TextWrapped("%s", snapshot.message.c_str());
+            ImGui::PopStyleColor();
+        }
+        // A refused edit leaves the session's material in use: its draft goes back to it, so
+        // the next drag starts from what is shown, not from the refused value.
+        if (snapshot.refusedEdits > state.refusalsSeen) {
+            state.refusalsSeen = snapshot.refusedEdits;
+            const std::size_t refused = snapshot.refusedMaterial;
+            if (refused < state.drafts.size() && refused < snapshot.materials.size())
+                state.drafts[refused] = draftOf(snapshot.materials[refused]);
+        }
         for (std::size_t k = 0; k < state.drafts.size() && k < scene.materials.size(); ++k) {
             ImGui::PushID(int(k));
             if (ImGui::TreeNode(scene.materials[k].name.c_str())) {

@@ -29,6 +29,7 @@ struct UiState {
     double appliedEv = 0;  // the exposure in use, stops
     FalseRange range;  // of the false colour in use
     std::vector<MaterialDraft> drafts;  // per material; filled by initUi
+    int refusalsSeen = 0;  // DisplaySnapshot::refusedEdits already reverted in the drafts
     bool screenshotRequest = false;
 };
 

@@ -8,6 +8,7 @@
 #include <imgui_impl_vulkan.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -41,6 +42,9 @@ constexpr int kFramesInFlight = 2;
 // the window (the test mode's last frame: full size, as `daisy render`), at most this often.
 constexpr int kExposureDownscale = 4;
 constexpr double kExposureIntervalSeconds = 0.25;
+// A changed measurement is approached exponentially with this time constant, so the picture's
+// brightness glides (an edit's converged solve would otherwise jump it: 186 -> 229 on a wall).
+constexpr double kExposureEaseSeconds = 0.3;
 // While the solver runs, frames are at least this far apart, so a CPU Vulkan driver (lavapipe)
 // leaves the cores to the solve; the picture still updates at every published iterate.
 constexpr double kSolvingFrameSeconds = 1.0 / 30;
@@ -55,7 +59,14 @@ struct Frame {
 struct InputEvents {
     double scroll = 0;
     bool activity = false;  // any input or window event: the picture may change
+    // Left clicks (press and release within kClickPixels, window coordinates), recorded by the
+    // mouse-button callback, so a click shorter than a frame is never lost.
+    std::array<double, 2> pressAt{-1e9, -1e9};
+    std::vector<std::array<double, 2>> clicks;
 };
+
+// A press and release this close (window pixels) is a click, not a drag.
+constexpr double kClickPixels = 3;
 
 // The automatic exposure of the view (image/exposure.h autoExposureScale, as `daisy render`
 // applies it) measured on a ray-cast image of the snapshot's smooth corner values.
@@ -162,7 +173,9 @@ private:
     double shownSinceEdit_ = -1;  // the shown snapshot's age of the edit when published
     double firstPublishedSeconds_ = -1, convergedPublishedSeconds_ = -1;
 
-    double exposureScale_ = 1;
+    double exposureScale_ = 1;  // applied to the picture
+    double exposureTarget_ = 1;  // the last measurement, which exposureScale_ eases towards
+    double exposureEasedAt_ = -1;
     bool exposureExact_ = false;
     uint64_t exposureVersion_ = 0;
     std::optional<Camera> exposureCamera_;
@@ -170,7 +183,7 @@ private:
     bool exposurePending_ = false;
     Timer clock_;
 
-    double lastMouseX_ = 0, lastMouseY_ = 0, pressX_ = 0, pressY_ = 0;
+    double lastMouseX_ = 0, lastMouseY_ = 0;
     bool dragging_ = false;
     InputEvents events_;
     int settleFrames_ = 0;  // frames still to draw after the last input (Dear ImGui's hover)
@@ -188,8 +201,19 @@ void installEventCallbacks(GLFWwindow* window) {
     });
     glfwSetCursorPosCallback(window,
                              [](GLFWwindow* w, double, double) { eventsOf(w).activity = true; });
-    glfwSetMouseButtonCallback(window,
-                               [](GLFWwindow* w, int, int, int) { eventsOf(w).activity = true; });
+    glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int) {
+        InputEvents& events = eventsOf(w);
+        events.activity = true;
+        if (button != GLFW_MOUSE_BUTTON_LEFT) return;
+        double x = 0, y = 0;
+        glfwGetCursorPos(w, &x, &y);
+        if (action == GLFW_PRESS) {
+            events.pressAt = {x, y};
+        } else if (action == GLFW_RELEASE && std::abs(x - events.pressAt[0]) < kClickPixels &&
+                   std::abs(y - events.pressAt[1]) < kClickPixels) {
+            events.clicks.push_back({x, y});
+        }
+    });
     glfwSetKeyCallback(window,
                        [](GLFWwindow* w, int, int, int, int) { eventsOf(w).activity = true; });
     glfwSetCharCallback(window, [](GLFWwindow* w, unsigned int) { eventsOf(w).activity = true; });
@@ -476,11 +500,7 @@ void Viewer::handleInput(double dt) {
     const bool right = glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS ||
         glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
     if (!mouseTaken) {
-        if (left && !dragging_) {
-            dragging_ = true;
-            pressX_ = x;
-            pressY_ = y;
-        }
+        if (left && !dragging_) dragging_ = true;
         if (left && (dx != 0 || dy != 0)) {
             const double radiansPerPixel = 0.005;
             if (ui_.fly) {
@@ -497,17 +517,17 @@ void Viewer::handleInput(double dt) {
         if (events_.scroll != 0) camera_->dolly(0.1 * events_.scroll);
     }
     events_.scroll = 0;
-    if (!left && dragging_) {
-        dragging_ = false;
-        if (!mouseTaken && std::abs(x - pressX_) < 3 && std::abs(y - pressY_) < 3) {
-            int width = 1, height = 1;
-            glfwGetFramebufferSize(window_, &width, &height);
-            const double sx = double(width) / std::max(windowWidth, 1);
-            const double sy = double(height) / std::max(windowHeight, 1);
-            ui_.picked =
-                pickPatch(worker_.patches(), camera_->camera(), width, height, x * sx, y * sy);
-        }
+    if (!left) dragging_ = false;
+    for (const auto& [clickX, clickY] : events_.clicks) {
+        if (mouseTaken) continue;
+        int width = 1, height = 1;
+        glfwGetFramebufferSize(window_, &width, &height);
+        const double sx = double(width) / std::max(windowWidth, 1);
+        const double sy = double(height) / std::max(windowHeight, 1);
+        ui_.picked = pickPatch(worker_.patches(), camera_->camera(), width, height, clickX * sx,
+                               clickY * sy);
     }
+    events_.clicks.clear();
     if (keysTaken) return;
     const double speed = 0.3 * sceneSize_ * dt;
     const auto key = [&](int k) { return glfwGetKey(window_, k) == GLFW_PRESS ? 1.0 : 0.0; };
@@ -542,9 +562,14 @@ bool sameCamera(const Camera& a, const Camera& b) {
 }
 
 void Viewer::updateExposure(const DisplaySnapshot& snapshot, bool exact) {
+    const double now = clock_.seconds();
+    const double dt = exposureEasedAt_ < 0 ? 0 : now - exposureEasedAt_;
+    exposureEasedAt_ = now;
     if (!ui_.autoExposure) {
         exposureScale_ = std::exp2(double(ui_.ev));
+        exposureTarget_ = exposureScale_;
         exposureCamera_.reset();
+        exposurePending_ = false;
         ui_.appliedEv = ui_.ev;
         return;
     }
@@ -555,20 +580,32 @@ void Viewer::updateExposure(const DisplaySnapshot& snapshot, bool exact) {
         ((exposureVersion_ == snapshot.version && (exposureExact_ || !exact)) ||
          (snapshot.solving && !exact));
     exposurePending_ = false;
-    if (current) return;
-    const double now = clock_.seconds();
-    if (!exact && exposureAt_ >= 0 && now - exposureAt_ < kExposureIntervalSeconds) {
-        exposurePending_ = true;  // measured at a later frame: keep drawing until then
-        return;
+    if (!current) {
+        if (!exact && exposureAt_ >= 0 && now - exposureAt_ < kExposureIntervalSeconds) {
+            exposurePending_ = true;  // measured at a later frame: keep drawing until then
+        } else {
+            const int divisor = exact ? 1 : kExposureDownscale;
+            const bool first = exposureAt_ < 0;
+            exposureTarget_ = measureExposure(worker_.patches(), camera_->camera(), snapshot,
+                                              int(swapchain_.extent.width) / divisor,
+                                              int(swapchain_.extent.height) / divisor);
+            if (first) exposureScale_ = exposureTarget_;
+            exposureVersion_ = snapshot.version;
+            exposureCamera_ = camera_->camera();
+            exposureExact_ = exact;
+            exposureAt_ = clock_.seconds();
+        }
     }
-    const int divisor = exact ? 1 : kExposureDownscale;
-    exposureScale_ = measureExposure(worker_.patches(), camera_->camera(), snapshot,
-                                     int(swapchain_.extent.width) / divisor,
-                                     int(swapchain_.extent.height) / divisor);
-    exposureVersion_ = snapshot.version;
-    exposureCamera_ = camera_->camera();
-    exposureExact_ = exact;
-    exposureAt_ = clock_.seconds();
+    // A new measurement eases in (in stops, time constant kExposureEaseSeconds) instead of
+    // jumping; the exact measurement of a screenshot applies at once.
+    const double target = std::log2(exposureTarget_), shown = std::log2(exposureScale_);
+    if (exact || std::abs(target - shown) < 0.01) {
+        exposureScale_ = exposureTarget_;
+    } else {
+        const double step = 1 - std::exp(-dt / kExposureEaseSeconds);
+        exposureScale_ = std::exp2(shown + (target - shown) * step);
+        exposurePending_ = true;  // keep drawing until it arrives
+    }
     ui_.appliedEv = std::log2(exposureScale_);
 }
 
@@ -763,7 +800,14 @@ void Viewer::trackEdit() {
 int Viewer::run() {
     double last = clock_.seconds();
     double smoothedFrame = 0;
+    double lastFrameSeconds = 0, titleFrameSeconds = -1;
     double titleAt = -1;
+    const auto setTitle = [&](double frameSeconds) {
+        glfwSetWindowTitle(
+            window_,
+            concat("daisy view - ", scene_.path, " - ", formatNumber(frameSeconds * 1e3, 3), " ms")
+                .c_str());
+    };
     bool minimisedLogged = false;
     int frameNumber = 0;
     bool editsPosted = false;
@@ -796,6 +840,12 @@ int Viewer::run() {
         const bool counting = options_.frames > 0 && worker_.idle();
         if (settleFrames_ <= 0 && !fresh && !resized_ && !counting && !ui_.screenshotRequest &&
             !exposurePending_ && frameNumber > 0) {
+            // Idle: the title keeps the last frame's real time (a title set a moment before
+            // that frame would otherwise stay, e.g. the first frame's set-up time).
+            if (titleFrameSeconds != lastFrameSeconds) {
+                titleFrameSeconds = lastFrameSeconds;
+                setTitle(lastFrameSeconds);
+            }
             glfwWaitEventsTimeout(worker_.idle() ? 0.25 : kSolvingFrameSeconds);
             continue;
         }
@@ -851,16 +901,18 @@ int Viewer::run() {
         // The frame's own time (record, submit, the wait for the frame before last): the frame
         // period when drawing continuously.
         const double work = clock_.seconds() - now;
-        smoothedFrame = smoothedFrame == 0 ? work : 0.9 * smoothedFrame + 0.1 * work;
+        // The first frame also creates pipelines and uploads: it does not seed the average.
+        if (frameNumber > 0) {
+            smoothedFrame = smoothedFrame == 0 ? work : 0.9 * smoothedFrame + 0.1 * work;
+        }
+        lastFrameSeconds = work;
         ui_.frameSeconds = smoothedFrame;
         ++frameNumber;
         if (options_.exerciseWindow) exerciseWindow(frameNumber);
         if (now - titleAt >= 0.25) {
             titleAt = now;
-            glfwSetWindowTitle(window_,
-                               concat("daisy view - ", scene_.path, " - ",
-                                      formatNumber(smoothedFrame * 1e3, 3), " ms")
-                                   .c_str());
+            titleFrameSeconds = lastFrameSeconds;
+            setTitle(smoothedFrame > 0 ? smoothedFrame : work);
         }
         if (capture && drawn) {
             // F12 in the interactive mode writes to --screenshot when given.
@@ -900,8 +952,10 @@ int Viewer::run() {
                     snapshot->message.empty() ? "" : concat("; ", snapshot->message)));
             }
             if (snapshot->refusedEdits > 0) {
-                logError(concat("daisy view: ", snapshot->refusedEdits,
-                                " --edit refused: ", snapshot->message));
+                logError(concat("daisy view: ", snapshot->message,
+                                snapshot->refusedEdits > 1
+                                    ? concat(" (", snapshot->refusedEdits, " edits refused)")
+                                    : std::string()));
                 vkDeviceWaitIdle(context_.device);
                 return 2;
             }

@@ -123,6 +123,88 @@ TEST(SolveWorker, RefusedEditKeepsTheMaterialAndSaysWhy) {
     EXPECT_FALSE(snapshot->materials[3].spectral.reflectance.has_value());
 }
 
+// The smallest patch radiance of material `material` in `snapshot` (visible samples only).
+double darkestPatch(const DisplaySnapshot& snapshot, const PatchMesh& patches,
+                    std::size_t material) {
+    double darkest = 1e300;
+    const std::size_t stride = std::size_t(snapshot.layout.count());
+    for (std::size_t p = 0; p < patches.patchCount(); ++p) {
+        if (patches.materials[p] != material) continue;
+        double sum = 0;
+        for (std::size_t k = 0; k < snapshot.wavelengthCount; ++k) {
+            if (snapshot.wavelengthsNm[k] < 400 || snapshot.wavelengthsNm[k] > 700) continue;
+            sum += snapshot.patchValues[p * stride + std::size_t(snapshot.layout.radiance(k))];
+        }
+        darkest = std::min(darkest, sum);
+    }
+    return darkest;
+}
+
+// A slider drag posts an edit per frame, each cancelling the solve of the one before, often
+// before its first sweep. No snapshot on the way may show the dragged material black: its
+// preview bounces the light of the last finished solve, never a cancelled solve's zeros.
+TEST(SolveWorker, ADragOfManyEditsNeverShowsTheEditedMaterialBlack) {
+    const Scene scene = room();
+    SolveWorker worker(solvedRoom());
+    const double before = darkestPatch(*worker.latest(), worker.patches(), 0);
+    ASSERT_GT(before, 0);
+    double darkest = 1e300;
+    uint64_t seen = 0;
+    const auto look = [&] {
+        const auto snapshot = worker.latest();
+        if (snapshot->version == seen) return;
+        seen = snapshot->version;
+        worker.shown(seen);
+        darkest = std::min(darkest, darkestPatch(*snapshot, worker.patches(), 0));
+    };
+    for (int step = 0; step < 40; ++step) {
+        const double grey = 0.5 + 0.01 * step;
+        worker.setMaterial(0, withReflectance(scene.materials[0], {grey, grey, grey}));
+        for (int k = 0; k < 4; ++k) {
+            look();
+            std::this_thread::sleep_for(std::chrono::microseconds(500));
+        }
+    }
+    for (int k = 0; k < 3000 && !worker.idle(); ++k) {
+        look();
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    look();
+    ASSERT_TRUE(worker.idle());
+    EXPECT_TRUE(worker.latest()->converged);
+    // Reflectance 0.5 to 0.89 against the start's (the base material's): never below a third.
+    EXPECT_GT(darkest, before / 3)
+        << "a snapshot showed the edited material at " << darkest << " of " << before;
+}
+
+// A refused edit right after an accepted one cancels that edit's solve; the worker must finish
+// it (converged, the accepted edit's solution), keep the refused material out and say why.
+TEST(SolveWorker, ARefusedEditStillLetsTheAcceptedEditConverge) {
+    const Scene scene = room();
+    const Material green = withReflectance(scene.materials[0], {0.1, 0.8, 0.1});
+    Material bad = scene.materials[3];
+    bad.spectral.reflectance = SpectrumSpec{TabulatedSpectrum{{400, 700}, {1.5, 1.5}}, 1.0};
+    SolveWorker worker(solvedRoom());
+    worker.setMaterial(0, green);
+    worker.setMaterial(3, bad);
+    waitIdle(worker);
+    const auto snapshot = worker.latest();
+    EXPECT_EQ(snapshot->refusedEdits, 1);
+    EXPECT_EQ(snapshot->refusedMaterial, 3u);
+    EXPECT_NE(snapshot->message.find("edit refused"), std::string::npos) << snapshot->message;
+    EXPECT_TRUE(snapshot->converged);
+    EXPECT_FALSE(snapshot->solving);
+    const Session direct = solvedRoom({{0, green}});
+    const std::vector<float> expected = direct.patchChannels(true);
+    ASSERT_EQ(snapshot->patchValues.size(), expected.size());
+    double worst = 0, largest = 0;
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+        worst = std::max(worst, double(std::abs(snapshot->patchValues[k] - expected[k])));
+        largest = std::max(largest, double(std::abs(expected[k])));
+    }
+    EXPECT_LT(worst, 1e-5 * largest);
+}
+
 }  // namespace
 }  // namespace daisy::viewer
 #endif
