@@ -12,6 +12,7 @@ layout(push_constant) uniform Push {
 layout(location = 0) in vec4 inValue;
 layout(location = 1) in vec3 inBarycentric;
 layout(location = 2) flat in float inTwoSided;
+layout(location = 3) flat in uint inPicked;
 layout(location = 0) out vec4 outColour;
 
 // IEC 61966-2-1 transfer curve, and its inverse.
@@ -35,8 +36,8 @@ void main() {
     } else {
         vec3 xyz = inValue.xyz;
         vec3 rgb = vec3(dot(vec3(p.colourRows[0], p.colourRows[1], p.colourRows[2]), xyz),
-                        dot(vec3(p.colourRows[4], p.colourRows[5], p.colourRows[6]), xyz),
-                        dot(vec3(p.colourRows[8], p.colourRows[9], p.colourRows[10]), xyz));
+                        dot(vec3(p.colourRows[3], p.colourRows[4], p.colourRows[5]), xyz),
+                        dot(vec3(p.colourRows[6], p.colourRows[7], p.colourRows[8]), xyz));
         rgb = clamp(rgb, vec3(0.0), vec3(1.0));
         display = encode ? vec3(encodeSrgb(rgb.x), encodeSrgb(rgb.y), encodeSrgb(rgb.z)) : rgb;
     }
@@ -45,6 +46,13 @@ void main() {
         vec3 edge = smoothstep(vec3(0.0), 1.5 * width, inBarycentric);
         float inside = min(edge.x, min(edge.y, edge.z));
         display = mix(vec3(1.0, 0.55, 0.1), display, inside);
+    }
+    if (inPicked != 0u) {
+        // The picked patch: tinted, with a thick cyan outline.
+        vec3 width = fwidth(inBarycentric);
+        vec3 edge = smoothstep(vec3(0.0), 3.0 * width, inBarycentric);
+        float inside = min(edge.x, min(edge.y, edge.z));
+        display = mix(vec3(0.1, 0.9, 1.0), mix(display, vec3(0.1, 0.9, 1.0), 0.25), inside);
     }
     outColour = vec4(display, 1.0);
 }

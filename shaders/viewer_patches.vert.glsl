@@ -13,6 +13,7 @@ layout(location = 1) in vec4 inValue;
 layout(location = 0) out vec4 outValue;
 layout(location = 1) out vec3 outBarycentric;
 layout(location = 2) flat out float outTwoSided;
+layout(location = 3) flat out uint outPicked;  // 1 on the picked patch
 
 void main() {
     mat4 viewProj;
@@ -22,6 +23,7 @@ void main() {
     gl_Position = viewProj * vec4(inPosition.xyz, 1.0);
     outTwoSided = inPosition.w;
     outValue = inValue;
+    outPicked = uint(gl_VertexIndex / 3) + 1u == p.picked ? 1u : 0u;
     int corner = gl_VertexIndex % 3;
     outBarycentric =
         vec3(corner == 0 ? 1.0 : 0.0, corner == 1 ? 1.0 : 0.0, corner == 2 ? 1.0 : 0.0);

@@ -18,8 +18,10 @@ DAISY_SHARED_BEGIN
 // Push constants of the patch pipeline, 128 bytes (Vulkan's guaranteed maxPushConstantsSize).
 struct ViewerPush {
     float viewProj[16];  // clip from world (scene units), column-major, reverse-Z infinite far
-    float colourRows[12];  // rows of linear display RGB from XYZ radiance times the exposure
-                           // scale (W^-1 m^2 sr nm); element 3 of each row unused
+    float colourRows[9];  // 3 rows of linear display RGB from XYZ radiance times the exposure
+                          // scale (W^-1 m^2 sr nm)
+    uint picked;  // the picked patch + 1, outlined and tinted; 0 = none
+    float reserved[2];
     uint mode;  // DAISY_VIEWER_MODE_*
     uint flags;  // DAISY_VIEWER_FLAG_*
     float falseLo;  // log10 of the scalar at the ramp's start
@@ -49,6 +51,7 @@ DAISY_SHARED_END
 #ifndef DAISY_GLSL
 static_assert(sizeof(daisy::shared::ViewerPush) == 128);
 static_assert(offsetof(daisy::shared::ViewerPush, colourRows) == 64);
+static_assert(offsetof(daisy::shared::ViewerPush, picked) == 100);
 static_assert(offsetof(daisy::shared::ViewerPush, mode) == 112);
 static_assert(offsetof(daisy::shared::ViewerPush, falseHi) == 124);
 #endif

@@ -182,11 +182,16 @@ void destroyPatchBuffers(const VulkanContext& context, PatchBuffers& buffers) {
 
 void recordPatches(VkCommandBuffer commandBuffer, const PatchPipeline& pipeline,
                    const PatchBuffers& buffers, int frame, const shared::ViewerPush& push,
-                   VkExtent2D extent) {
+                   VkRect2D area) {
     if (buffers.vertexCount == 0) return;
     vkCmdBindPipeline(commandBuffer, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.pipeline);
-    const VkViewport viewport{0, 0, float(extent.width), float(extent.height), 0, 1};
-    const VkRect2D scissor{{0, 0}, extent};
+    const VkViewport viewport{float(area.offset.x),
+                              float(area.offset.y),
+                              float(area.extent.width),
+                              float(area.extent.height),
+                              0,
+                              1};
+    const VkRect2D scissor = area;
     vkCmdSetViewport(commandBuffer, 0, 1, &viewport);
     vkCmdSetScissor(commandBuffer, 0, 1, &scissor);
     vkCmdPushConstants(commandBuffer, pipeline.layout,

@@ -40,9 +40,9 @@ Expected<PatchBuffers> createPatchBuffers(const VulkanContext& context, const Pa
 void destroyPatchBuffers(const VulkanContext& context, PatchBuffers& buffers);
 
 // Draws the patches with `values` buffer `frame` into the render pass begun on `commandBuffer`
-// (viewport and scissor set to `extent`).
+// (viewport and scissor set to `area`, the window right of the docked panel).
 void recordPatches(VkCommandBuffer commandBuffer, const PatchPipeline& pipeline,
                    const PatchBuffers& buffers, int frame, const shared::ViewerPush& push,
-                   VkExtent2D extent);
+                   VkRect2D area);
 
 }  // namespace daisy::viewer

@@ -21,11 +21,11 @@ void statistics(const UiState& state, const DisplaySnapshot& snapshot, const Sol
     ImGui::Text("%s", scene.path.c_str());
     ImGui::Text("%zu patches from %zu triangles, %zu materials", worker.patches().patchCount(),
                 scene.mesh.triangleCount(), scene.materials.size());
-    ImGui::Text("%zu wavelengths (%.0f..%.0f nm), %s transport: %s entries",
-                snapshot.wavelengthCount,
-                snapshot.wavelengthsNm.empty() ? 0.0 : snapshot.wavelengthsNm.front(),
-                snapshot.wavelengthsNm.empty() ? 0.0 : snapshot.wavelengthsNm.back(),
-                worker.transportKind(), formatCount(worker.transportStats().entries).c_str());
+    ImGui::TextWrapped(
+        "%zu wavelengths (%.0f..%.0f nm), %s transport: %s entries", snapshot.wavelengthCount,
+        snapshot.wavelengthsNm.empty() ? 0.0 : snapshot.wavelengthsNm.front(),
+        snapshot.wavelengthsNm.empty() ? 0.0 : snapshot.wavelengthsNm.back(),
+        worker.transportKind(), formatCount(worker.transportStats().entries).c_str());
     ImGui::Text("frame %.2f ms, exposure %.2f EV", state.frameSeconds * 1e3, state.appliedEv);
 }
 
@@ -92,6 +92,8 @@ void viewControls(UiState& state, const DisplaySnapshot& snapshot, const Scene& 
     }
     ImGui::Checkbox("fly (WASD QE, drag to look)", &state.fly);
     if (ImGui::Button("reset view (R)")) state.cameraRequest = -2;
+    ImGui::SameLine();
+    if (ImGui::Button("frame all (Home)")) state.frameAllRequest = true;
     for (std::size_t k = 0; k < scene.cameras.size(); ++k) {
         ImGui::SameLine();
         const std::string name =
@@ -180,6 +182,71 @@ bool materialEditor(MaterialDraft& draft) {
     return changed;
 }
 
+// B and G of the picked patch on one chart: wavelength in nm along x (ticks every 50 or 100
+// nm), one linear y scale for both from 0 to their peak, a legend, and under the mouse a vertical
+// line with the nearest sample's values.
+void spectralChart(const std::vector<double>& nm, const std::vector<float>& radiosity,
+                   const std::vector<float>& incident) {
+    const std::size_t m = nm.size();
+    const ImVec2 origin = ImGui::GetCursorScreenPos();
+    const float width = std::max(ImGui::GetContentRegionAvail().x, 120.0f), height = 150;
+    const float left = 42, bottom = 18, right = 6, top = 6;
+    const ImVec2 plotLow(origin.x + left, origin.y + top);
+    const ImVec2 plotHigh(origin.x + width - right, origin.y + height - bottom);
+    ImGui::InvisibleButton("chart", ImVec2(width, height));
+    const bool hovered = ImGui::IsItemHovered();
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    const ImU32 axis = ImGui::GetColorU32(ImGuiCol_TextDisabled);
+    const ImU32 text = ImGui::GetColorU32(ImGuiCol_Text);
+    const ImU32 colourB = IM_COL32(255, 170, 60, 255), colourG = IM_COL32(90, 170, 255, 255);
+    draw->AddRect(plotLow, plotHigh, axis);
+    const double lo = nm.front(), hi = nm.back() > lo ? nm.back() : lo + 1;
+    float peak = 0;
+    for (std::size_t k = 0; k < m; ++k)
+        peak = std::max({peak, radiosity[k], incident[k]});
+    const float yTop = peak > 0 ? peak * 1.05f : 1.0f;
+    const auto x = [&](double lambda) {
+        return plotLow.x + float((lambda - lo) / (hi - lo)) * (plotHigh.x - plotLow.x);
+    };
+    const auto y = [&](float value) {
+        return plotHigh.y - value / yTop * (plotHigh.y - plotLow.y);
+    };
+    const double step = hi - lo > 250 ? 100 : 50;
+    for (double tick = std::ceil(lo / step) * step; tick <= hi + 1e-9; tick += step) {
+        draw->AddLine(ImVec2(x(tick), plotHigh.y), ImVec2(x(tick), plotHigh.y + 3), axis);
+        const std::string label = formatNumber(tick, 4);
+        draw->AddText(ImVec2(x(tick) - 10, plotHigh.y + 3), text, label.c_str());
+    }
+    const std::string topLabel = concat(formatNumber(double(yTop), 2));
+    draw->AddText(ImVec2(origin.x, plotLow.y), text, topLabel.c_str());
+    draw->AddText(ImVec2(origin.x + 8, plotHigh.y - 14), text, "0");
+    for (std::size_t k = 0; k + 1 < m; ++k) {
+        draw->AddLine(ImVec2(x(nm[k]), y(incident[k])), ImVec2(x(nm[k + 1]), y(incident[k + 1])),
+                      colourG, 1.5f);
+        draw->AddLine(ImVec2(x(nm[k]), y(radiosity[k])), ImVec2(x(nm[k + 1]), y(radiosity[k + 1])),
+                      colourB, 2.0f);
+    }
+    for (std::size_t k = 0; k < m; ++k)
+        draw->AddCircleFilled(ImVec2(x(nm[k]), y(radiosity[k])), 2.0f, colourB);
+    // Legend, top right.
+    const float legendX = plotHigh.x - 120;
+    draw->AddLine(ImVec2(legendX, plotLow.y + 8), ImVec2(legendX + 14, plotLow.y + 8), colourB, 2);
+    draw->AddText(ImVec2(legendX + 18, plotLow.y + 1), text, "B (radiosity)");
+    draw->AddLine(ImVec2(legendX, plotLow.y + 22), ImVec2(legendX + 14, plotLow.y + 22), colourG,
+                  2);
+    draw->AddText(ImVec2(legendX + 18, plotLow.y + 15), text, "G (incident)");
+    if (hovered) {
+        const float mouse = ImGui::GetIO().MousePos.x;
+        std::size_t nearest = 0;
+        for (std::size_t k = 1; k < m; ++k)
+            if (std::abs(x(nm[k]) - mouse) < std::abs(x(nm[nearest]) - mouse)) nearest = k;
+        draw->AddLine(ImVec2(x(nm[nearest]), plotLow.y), ImVec2(x(nm[nearest]), plotHigh.y), text);
+        ImGui::SetTooltip("%.1f nm\nB %.4g W m^-2 nm^-1\nG %.4g W m^-2 nm^-1", nm[nearest],
+                          double(radiosity[nearest]), double(incident[nearest]));
+    }
+    ImGui::TextDisabled("wavelength (nm); W m^-2 nm^-1");
+}
+
 void pickedPatch(const UiState& state, const DisplaySnapshot& snapshot, const Scene& scene,
                  const SolveWorker& worker) {
     if (!state.picked) {
@@ -189,26 +256,16 @@ void pickedPatch(const UiState& state, const DisplaySnapshot& snapshot, const Sc
     const std::size_t p = *state.picked, m = snapshot.wavelengthCount;
     if (m == 0 || (p + 1) * m > snapshot.radiosity.size()) return;
     std::vector<float> radiosity(m), incident(m);
-    float topB = 0, topG = 0;
+    const bool haveG = snapshot.gathered.size() == worker.patches().patchCount() * m;
     for (std::size_t k = 0; k < m; ++k) {
         radiosity[k] = float(snapshot.radiosity[p * m + k]);
-        incident[k] = snapshot.gathered.size() == worker.patches().patchCount() * m
-            ? float(snapshot.gathered[p * m + k])
-            : 0.0f;
-        topB = std::max(topB, radiosity[k]);
-        topG = std::max(topG, incident[k]);
+        incident[k] = haveG ? float(snapshot.gathered[p * m + k]) : 0.0f;
     }
     const uint32_t material = worker.patches().materials[p];
     ImGui::Text("patch %zu, material '%s'", p,
                 material < scene.materials.size() ? scene.materials[material].name.c_str() : "");
-    const std::string range = concat(formatNumber(snapshot.wavelengthsNm.front(), 4), "..",
-                                     formatNumber(snapshot.wavelengthsNm.back(), 4), " nm");
-    ImGui::PlotLines("B", radiosity.data(), int(m), 0, range.c_str(), 0, topB * 1.05f + 1e-12f,
-                     ImVec2(0, 70));
-    ImGui::Text("B(lambda) peak %.3g W m^-2 nm^-1", topB);
-    ImGui::PlotLines("G", incident.data(), int(m), 0, range.c_str(), 0, topG * 1.05f + 1e-12f,
-                     ImVec2(0, 70));
-    ImGui::Text("incident G = F B, peak %.3g W m^-2 nm^-1", topG);
+    spectralChart(snapshot.wavelengthsNm, radiosity, incident);
+    if (!haveG) ImGui::TextDisabled("G appears when a solve finishes");
 }
 
 }  // namespace
@@ -222,10 +279,19 @@ void initUi(UiState& state, const Scene& scene, const std::string& wavelengthsTe
 
 void drawPanel(UiState& state, const DisplaySnapshot& snapshot, SolveWorker& worker,
                const Scene& scene) {
-    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-    const float height = std::max(ImGui::GetIO().DisplaySize.y - 16, 200.0f);
-    ImGui::SetNextWindowSize(ImVec2(400, std::min(height, 900.0f)), ImGuiCond_FirstUseEver);
-    ImGui::Begin("DaisyRiot");
+    // Docked at the left, full height; the picture is framed in the rest of the window. Folded
+    // to its title bar (the arrow), it gives the picture the whole window.
+    const ImVec2 window = ImGui::GetIO().DisplaySize;
+    ImGui::SetNextWindowPos(ImVec2(0, 0), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(std::min(kPanelWidth, window.x / 2), window.y),
+                             ImGuiCond_Always);
+    const bool open =
+        ImGui::Begin("DaisyRiot", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize);
+    state.panelCollapsed = !open;
+    if (!open) {
+        ImGui::End();
+        return;
+    }
     statistics(state, snapshot, worker, scene);
     if (ImGui::CollapsingHeader("view", ImGuiTreeNodeFlags_DefaultOpen))
         viewControls(state, snapshot, scene);

@@ -29,9 +29,14 @@ struct UiState {
     double appliedEv = 0;  // the exposure in use, stops
     FalseRange range;  // of the false colour in use
     std::vector<MaterialDraft> drafts;  // per material; filled by initUi
+    bool panelCollapsed = false;  // the docked panel folded to its title bar
+    bool frameAllRequest = false;  // "frame all": the whole scene in view
     int refusalsSeen = 0;  // DisplaySnapshot::refusedEdits already reverted in the drafts
     bool screenshotRequest = false;
 };
+
+// The docked panel's width in pixels (at most half the window); the picture fills the rest.
+inline constexpr float kPanelWidth = 400;
 
 // Fills the drafts from the scene's materials.
 void initUi(UiState& state, const Scene& scene, const std::string& wavelengthsText);

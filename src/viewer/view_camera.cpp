@@ -98,6 +98,18 @@ double defaultOrbitDistance(const Camera& camera, const Vec3d& lo, const Vec3d& 
     return std::max(along, 0.01 * length(hi - lo) + 1e-6);
 }
 
+Framing frameAll(const Camera& camera, const Vec3d& lo, const Vec3d& hi, double aspect) {
+    const Vec3d centre = (lo + hi) * 0.5;
+    const double radius = std::max(0.5 * length(hi - lo), 1e-6);
+    const double halfY = 0.5 * camera.yFovRad;
+    const double halfX = std::atan(std::tan(halfY) * std::max(aspect, 1e-3));
+    const double distance = radius / std::sin(std::min(halfX, halfY));
+    Framing framing{camera, distance};
+    framing.camera.forward = normalize(camera.forward);
+    framing.camera.position = centre - framing.camera.forward * distance;
+    return framing;
+}
+
 std::optional<uint32_t> pickPatch(const PatchMesh& mesh, const Camera& camera, int width,
                                   int height, double x, double y) {
     const Ray ray = primaryRay(camera, width, height, x, y);

@@ -51,6 +51,16 @@ std::array<float, 16> viewProjection(const Camera& camera, double aspect);
 // distance along the view direction to the box centre's projection, at least 1% of its diagonal.
 double defaultOrbitDistance(const Camera& camera, const Vec3d& lo, const Vec3d& hi);
 
+// "Frame all": `camera` moved back along its own view direction until the bounding sphere of
+// [lo, hi] fits both fields of view at `aspect` (width / height), looking at the box centre; the
+// orbit distance is the distance to that centre. The viewer's start for scenes without cameras
+// (outside the geometry) and its Home key.
+struct Framing {
+    Camera camera;
+    double orbitDistance = 1;
+};
+Framing frameAll(const Camera& camera, const Vec3d& lo, const Vec3d& hi, double aspect);
+
 // The patch seen through image position (x, y) (pixels, as primaryRay) of a width x height view,
 // the nearest hit of the primary ray (brute force over the patches with the shared watertight
 // test, src/shared/intersect.h: fine for a click); nullopt when the ray misses.

@@ -94,16 +94,14 @@ double measureExposure(const PatchMesh& mesh, const Camera& camera, const Displa
 }
 
 // The rows of display RGB from XYZ times `scale` (spectral/color.h, IEC 61966-2-1).
-void colourRows(double scale, float rows[12]) {
+void colourRows(double scale, float rows[9]) {
     for (int row = 0; row < 3; ++row) {
-        Xyz unit{0, 0, 0};
         for (int column = 0; column < 3; ++column) {
-            unit = Xyz{0, 0, 0};
+            Xyz unit{0, 0, 0};
             unit[std::size_t(column)] = 1;
             const Rgb rgb = xyzToLinearSrgb(unit);
-            rows[row * 4 + column] = static_cast<float>(rgb[std::size_t(row)] * scale);
+            rows[row * 3 + column] = static_cast<float>(rgb[std::size_t(row)] * scale);
         }
-        rows[row * 4 + 3] = 0;
     }
 }
 
@@ -152,6 +150,8 @@ private:
     HostBuffer readback_;
     VkDescriptorPool imguiPool_ = VK_NULL_HANDLE;
     bool showPanel_ = true;
+    // The part of the window the picture fills: right of the docked panel while it is shown.
+    VkRect2D sceneArea() const;
     bool imgui_ = false;
     bool resized_ = false;
     int frame_ = 0;
@@ -160,6 +160,7 @@ private:
     std::optional<ViewCamera> camera_;
     Camera startCamera_;
     double sceneSize_ = 1;  // bounding-box diagonal, scene units
+    Vec3d sceneLow_{0, 0, 0}, sceneHigh_{0, 0, 0};  // bounding box of the patches
     int cameraIndex_ = -1;
     UiState ui_;
     DisplaySettings valueSettings_[kFramesInFlight];
@@ -187,7 +188,8 @@ private:
     bool dragging_ = false;
     InputEvents events_;
     int settleFrames_ = 0;  // frames still to draw after the last input (Dear ImGui's hover)
-    bool f12Down_ = false, rDown_ = false, cDown_ = false, fDown_ = false, tabDown_ = false;
+    bool f12Down_ = false, rDown_ = false, homeDown_ = false, cDown_ = false, fDown_ = false,
+         tabDown_ = false;
 };
 
 InputEvents& eventsOf(GLFWwindow* window) {
@@ -294,8 +296,21 @@ int Viewer::open() {
         }
     }
     if (worker_.patches().positions.empty()) lo = hi = Vec3d{0, 0, 0};
+    sceneLow_ = lo;
+    sceneHigh_ = hi;
     sceneSize_ = std::max(length(hi - lo), 1e-6);
-    camera_.emplace(startCamera_, defaultOrbitDistance(startCamera_, lo, hi));
+    double orbitDistance = defaultOrbitDistance(startCamera_, lo, hi);
+    if (options_.camera.empty() && scene_.cameras.empty()) {
+        // No camera in the file: start outside the geometry, looking at all of it (the automatic
+        // framing's direction), rather than inside a room next to whatever stands there.
+        const bool panel = options_.frames == 0 || options_.panel;
+        const double pictureWidth =
+            options_.width - (panel ? std::min(double(kPanelWidth), options_.width / 2.0) : 0.0);
+        const Framing framing = frameAll(startCamera_, lo, hi, pictureWidth / options_.height);
+        startCamera_ = framing.camera;
+        orbitDistance = framing.orbitDistance;
+    }
+    camera_.emplace(startCamera_, orbitDistance);
     showPanel_ = options_.frames == 0;
 
     if (!glfwInit()) {
@@ -457,6 +472,14 @@ Expected<bool> Viewer::recreateSwapchain() {
 }
 
 void Viewer::applyCameraRequest() {
+    if (ui_.frameAllRequest) {
+        ui_.frameAllRequest = false;
+        const VkExtent2D area = sceneArea().extent;
+        const Framing framing = frameAll(camera_->camera(), sceneLow_, sceneHigh_,
+                                         double(area.width) / std::max(double(area.height), 1.0));
+        camera_.emplace(framing.camera, framing.orbitDistance);
+        cameraIndex_ = -1;
+    }
     if (ui_.cameraRequest == -1) return;
     const double distance = camera_->orbitDistance();
     if (ui_.cameraRequest == -2) {
@@ -524,8 +547,10 @@ void Viewer::handleInput(double dt) {
         glfwGetFramebufferSize(window_, &width, &height);
         const double sx = double(width) / std::max(windowWidth, 1);
         const double sy = double(height) / std::max(windowHeight, 1);
-        ui_.picked = pickPatch(worker_.patches(), camera_->camera(), width, height, clickX * sx,
-                               clickY * sy);
+        const VkRect2D area = sceneArea();
+        ui_.picked = pickPatch(worker_.patches(), camera_->camera(), int(area.extent.width),
+                               int(area.extent.height), clickX * sx - area.offset.x,
+                               clickY * sy - area.offset.y);
     }
     events_.clicks.clear();
     if (keysTaken) return;
@@ -537,6 +562,7 @@ void Viewer::handleInput(double dt) {
     if (forward != 0 || sideways != 0 || up != 0)
         camera_->fly(forward * speed, sideways * speed, up * speed);
     if (pressed(window_, GLFW_KEY_R, rDown_)) ui_.cameraRequest = -2;
+    if (pressed(window_, GLFW_KEY_HOME, homeDown_)) ui_.frameAllRequest = true;
     if (pressed(window_, GLFW_KEY_C, cDown_) && !scene_.cameras.empty())
         ui_.cameraRequest = (cameraIndex_ + 1) % int(scene_.cameras.size());
     if (pressed(window_, GLFW_KEY_F, fDown_)) ui_.fly = !ui_.fly;
@@ -586,9 +612,10 @@ void Viewer::updateExposure(const DisplaySnapshot& snapshot, bool exact) {
         } else {
             const int divisor = exact ? 1 : kExposureDownscale;
             const bool first = exposureAt_ < 0;
-            exposureTarget_ = measureExposure(worker_.patches(), camera_->camera(), snapshot,
-                                              int(swapchain_.extent.width) / divisor,
-                                              int(swapchain_.extent.height) / divisor);
+            const VkExtent2D area = sceneArea().extent;
+            exposureTarget_ =
+                measureExposure(worker_.patches(), camera_->camera(), snapshot,
+                                int(area.width) / divisor, int(area.height) / divisor);
             if (first) exposureScale_ = exposureTarget_;
             exposureVersion_ = snapshot.version;
             exposureCamera_ = camera_->camera();
@@ -607,6 +634,14 @@ void Viewer::updateExposure(const DisplaySnapshot& snapshot, bool exact) {
         exposurePending_ = true;  // keep drawing until it arrives
     }
     ui_.appliedEv = std::log2(exposureScale_);
+}
+
+VkRect2D Viewer::sceneArea() const {
+    const VkExtent2D full = swapchain_.extent;
+    const uint32_t panel = imgui_ && showPanel_ && !ui_.panelCollapsed
+        ? std::min(uint32_t(kPanelWidth), full.width / 2)
+        : 0;
+    return {{int32_t(panel), 0}, {full.width - panel, full.height}};
 }
 
 Expected<bool> Viewer::drawFrame(bool capture) {
@@ -642,14 +677,16 @@ Expected<bool> Viewer::drawFrame(bool capture) {
     }
 
     shared::ViewerPush push{};
-    const std::array<float, 16> viewProj = viewProjection(
-        camera_->camera(), double(swapchain_.extent.width) / double(swapchain_.extent.height));
+    const VkRect2D area = sceneArea();
+    const std::array<float, 16> viewProj =
+        viewProjection(camera_->camera(), double(area.extent.width) / double(area.extent.height));
     std::copy(viewProj.begin(), viewProj.end(), push.viewProj);
     colourRows(exposureScale_, push.colourRows);
     push.mode = ui_.display.quantity == DisplayQuantity::Colour ? DAISY_VIEWER_MODE_COLOUR
                                                                 : DAISY_VIEWER_MODE_FALSE;
     push.flags = (formats_.encodeSrgb ? DAISY_VIEWER_FLAG_ENCODE_SRGB : 0u) |
         (ui_.wireframe ? DAISY_VIEWER_FLAG_WIREFRAME : 0u);
+    push.picked = ui_.picked ? *ui_.picked + 1 : 0;
     push.falseLo = static_cast<float>(ui_.range.lo);
     push.falseHi = static_cast<float>(ui_.range.hi);
 
@@ -668,7 +705,7 @@ Expected<bool> Viewer::drawFrame(bool capture) {
     passInfo.clearValueCount = 2;
     passInfo.pClearValues = clears;
     vkCmdBeginRenderPass(commandBuffer, &passInfo, VK_SUBPASS_CONTENTS_INLINE);
-    recordPatches(commandBuffer, pipeline_, buffers_, frame_, push, swapchain_.extent);
+    recordPatches(commandBuffer, pipeline_, buffers_, frame_, push, area);
     if (imgui_) ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), commandBuffer);
     vkCmdEndRenderPass(commandBuffer);
 
@@ -859,8 +896,11 @@ int Viewer::run() {
         handleInput(dt);
         applyCameraRequest();
         if (options_.pick && frameNumber == 0) {
-            ui_.picked = pickPatch(worker_.patches(), camera_->camera(), width, height,
-                                   (*options_.pick)[0] + 0.5, (*options_.pick)[1] + 0.5);
+            const VkRect2D area = sceneArea();
+            ui_.picked =
+                pickPatch(worker_.patches(), camera_->camera(), int(area.extent.width),
+                          int(area.extent.height), (*options_.pick)[0] + 0.5 - area.offset.x,
+                          (*options_.pick)[1] + 0.5 - area.offset.y);
             const std::size_t material =
                 ui_.picked ? worker_.patches().materials[*ui_.picked] : scene_.materials.size();
             logInfo(ui_.picked ? concat("view: picked patch ", *ui_.picked, " (material '",

@@ -37,6 +37,34 @@ Camera tiltedCamera() {
     return camera;
 }
 
+// Frame all: every corner of the box projects inside the picture, at any aspect, and the box's
+// bounding sphere touches the limiting edge (the distance is the smallest that fits it).
+TEST(ViewCamera, FrameAllFitsTheWholeBoxTightly) {
+    const Vec3d lo{-1, 0, -3}, hi{2, 1.5, 0.5};
+    for (const double aspect : {0.5, 1.0, 16.0 / 9}) {
+        const Framing framing = frameAll(tiltedCamera(), lo, hi, aspect);
+        const Camera& camera = framing.camera;
+        EXPECT_NEAR(
+            length(camera.position + camera.forward * framing.orbitDistance - (lo + hi) * 0.5), 0,
+            1e-12);
+        const int height = 200, width = int(std::lround(200 * aspect));
+        const auto m = viewProjection(camera, double(width) / height);
+        for (int corner = 0; corner < 8; ++corner) {
+            const Vec3d p{corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y,
+                          corner & 4 ? hi.z : lo.z};
+            const Projected q = project(m, p, width, height);
+            EXPECT_GE(q.x, 0) << aspect;
+            EXPECT_LE(q.x, width) << aspect;
+            EXPECT_GE(q.y, 0) << aspect;
+            EXPECT_LE(q.y, height) << aspect;
+        }
+        const double radius = 0.5 * length(hi - lo);
+        const double halfY = 0.5 * camera.yFovRad;
+        const double halfX = std::atan(std::tan(halfY) * aspect);
+        EXPECT_NEAR(framing.orbitDistance * std::sin(std::min(halfX, halfY)), radius, 1e-9);
+    }
+}
+
 TEST(ViewCamera, ProjectionInvertsThePrimaryRays) {
     const Camera camera = tiltedCamera();
     const int width = 320, height = 200;

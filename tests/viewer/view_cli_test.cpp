@@ -242,9 +242,15 @@ TEST(ViewCli, FalseColourPutsTheLightAtTheTopOfTheRamp) {
 TEST(ViewCli, PickNamesThePatchUnderThePixel) {
     // The measured camera sees the red wall on the left, the green one on the right and the
     // light in the ceiling's middle (assets/scenes/cornell_box.gltf, tools/make_cornell_box.py).
+    // The panel is docked on the left half of the 320-pixel window: the picture is the 160 x 120
+    // to its right, so window pixel 190 is the picture's 30.
     for (const auto& [pixel, material] :
-         {std::pair<std::string, std::string>{"30,60", "red"}, {"130,60", "green"}}) {
-        const RunResult run = runView(kScene + kSize + " --frames 1 --panel --pick " + pixel);
+         {std::pair<std::string, std::string>{"190,60", "red"}, {"290,60", "green"}}) {
+        const RunResult run =
+            runView(kScene +
+                    " --camera measured --width 320 --height 120 --frames 1 --panel "
+                    "--pick " +
+                    pixel);
         DAISY_VIEW_OR_SKIP(run);
         ASSERT_EQ(run.status, 0) << run.output;
         EXPECT_NE(run.output.find("(material '" + material + "')"), std::string::npos)
