@@ -74,6 +74,7 @@ struct RenderOptions {
 
 struct ViewOptions {
     std::string screenshotPath;
+    std::string saveMaterialsPath;  // --save-materials: the edited materials as --materials JSON
     int frames = 0;  // 0 = run until the window closes
     std::string camera;  // name or index; empty = first camera or automatic framing
     int width = 1280;  // the window's size at start

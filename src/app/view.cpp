@@ -58,7 +58,7 @@ int runView(const CommonOptions& options, const ViewOptions& view) {
         return unavailable.status;
     }
     // An unwritable --screenshot fails now, not after the frames (core/atomic_file.h).
-    auto screenshot = reserveOutputs({view.screenshotPath});
+    auto screenshot = reserveOutputs({view.screenshotPath, view.saveMaterialsPath});
     if (!screenshot) {
         logError(screenshot.error().message);
         return 2;
@@ -74,6 +74,7 @@ int runView(const CommonOptions& options, const ViewOptions& view) {
     settings.exposure = *exposure;
     settings.frames = view.frames;
     settings.screenshotPath = view.screenshotPath;
+    settings.saveMaterialsPath = view.saveMaterialsPath;
     settings.edits = view.edits;
     settings.exerciseWindow = view.exerciseWindow;
     settings.panel = view.panel;
@@ -98,6 +99,9 @@ void addViewCommand(CLI::App& app, CommandContext& context) {
     auto view = std::make_shared<ViewOptions>();
     CLI::App* command = context.add(app, "view", "Interactive viewer with a materials editor");
     command->add_option("--screenshot", view->screenshotPath, "Save a PNG of the last frame");
+    command->add_option("--save-materials", view->saveMaterialsPath,
+                        "Write the edited materials as a --materials JSON file (at the last "
+                        "frame; the panel's save button default)");
     command->add_option("--frames", view->frames, "Frames to show, then exit")
         ->check(CLI::Range(1, 1000000));
     command->add_option("--camera", view->camera, "Camera name or index");

@@ -15,6 +15,7 @@ void mergeExtension(MaterialExtension& target, const MaterialExtension& overlay)
     if (overlay.reflectance) target.reflectance = overlay.reflectance;
     if (overlay.emission) target.emission = overlay.emission;
     if (overlay.fluorescence) target.fluorescence = overlay.fluorescence;
+    if (overlay.removesFluorescence) target.fluorescence.reset();
 }
 
 }  // namespace daisy

@@ -17,6 +17,9 @@ struct MaterialExtension {
     std::optional<SpectrumSpec> reflectance;
     std::optional<SpectrumSpec> emission;
     std::optional<FluorescenceSpec> fluorescence;
+    // "fluorescence": null in an overlay (a --materials entry): the material loses its
+    // fluorescence. Set only when `fluorescence` is empty.
+    bool removesFluorescence = false;
 };
 
 struct Material {

@@ -6,6 +6,8 @@
 #include <limits>
 #include <span>
 #include <string_view>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -387,7 +389,9 @@ Expected<MaterialExtension> parseExtension(const json& object, const std::string
         if (!emission) return emission.error();
         extension.emission = std::move(*emission);
     }
-    if (object.contains("fluorescence")) {
+    if (object.contains("fluorescence") && object["fluorescence"].is_null()) {
+        extension.removesFluorescence = true;
+    } else if (object.contains("fluorescence")) {
         auto fluorescence =
             parseFluorescence(object["fluorescence"], member(where, "fluorescence"));
         if (!fluorescence) return fluorescence.error();
@@ -396,7 +400,57 @@ Expected<MaterialExtension> parseExtension(const json& object, const std::string
     return extension;
 }
 
+json spectrumToJson(const SpectrumSpec& spec) {
+    json out = json::object();
+    std::visit(
+        [&](const auto& shape) {
+            using Shape = std::decay_t<decltype(shape)>;
+            if constexpr (std::is_same_v<Shape, RgbSpectrum>) {
+                out["rgb"] = shape.rgb;
+            } else if constexpr (std::is_same_v<Shape, TabulatedSpectrum>) {
+                out["wavelengths"] = shape.wavelengthsNm;
+                out["values"] = shape.values;
+            } else if constexpr (std::is_same_v<Shape, PresetSpectrum>) {
+                out["preset"] = shape.name;
+            } else if constexpr (std::is_same_v<Shape, BlackbodySpectrum>) {
+                out["blackbody"] = shape.temperatureK;
+            } else {
+                out["gaussian"] = {{"peak", shape.peakNm}, {"fwhm", shape.fwhmNm}};
+            }
+        },
+        spec.shape);
+    if (spec.scale != 1.0) out["scale"] = spec.scale;
+    return out;
+}
+
 }  // namespace
+
+json materialExtensionToJson(const MaterialExtension& extension, bool* representable) {
+    if (representable != nullptr) *representable = true;
+    json out = json::object();
+    if (extension.reflectance) out["reflectance"] = spectrumToJson(*extension.reflectance);
+    if (extension.emission) out["emission"] = spectrumToJson(*extension.emission);
+    if (extension.removesFluorescence) out["fluorescence"] = nullptr;
+    if (!extension.fluorescence) return out;
+    std::visit(
+        [&](const auto& spec) {
+            using Spec = std::decay_t<decltype(spec)>;
+            if constexpr (std::is_same_v<Spec, FluorophorePreset>) {
+                out["fluorescence"] = {{"preset", spec.name}};
+            } else if constexpr (std::is_same_v<Spec, FluorescenceParams>) {
+                out["fluorescence"] = {{"absorption", spectrumToJson(spec.absorption)},
+                                       {"emission", spectrumToJson(spec.emission)},
+                                       {"quantumYield", spec.quantumYield}};
+            } else if constexpr (std::is_same_v<Spec, FluorescenceMatrix>) {
+                out["fluorescence"] = {
+                    {"matrix", {{"wavelengths", spec.wavelengthsNm}, {"values", spec.values}}}};
+            } else if (representable != nullptr) {
+                *representable = false;  // FluorescentColor: MTL only
+            }
+        },
+        *extension.fluorescence);
+    return out;
+}
 
 Expected<MaterialExtension> parseMaterialExtension(const nlohmann::json& object,
                                                    const std::string& where) {

@@ -17,4 +17,11 @@ inline constexpr const char* kSpectralExtensionName = "DAISY_materials_spectral"
 Expected<MaterialExtension> parseMaterialExtension(const nlohmann::json& object,
                                                    const std::string& where);
 
+// The inverse of parseMaterialExtension: the DAISY_materials_spectral object (or --materials
+// entry) that parses back to `extension` exactly (numbers written to round-trip), with only the
+// members it sets ("fluorescence": null when it removes fluorescence). MTL's fluorescent colour
+// (Ks) has no JSON form: `fluorescence` is left out for it and `representable` set to false.
+nlohmann::json materialExtensionToJson(const MaterialExtension& extension,
+                                       bool* representable = nullptr);
+
 }  // namespace daisy

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/atomic_file.h"
 #include "core/strings.h"
 #include "scene/bounded_json.h"
 #include "scene/material_extension.h"
@@ -74,6 +75,44 @@ Material applyEdit(Material material, const MaterialEdit& edit) {
     return material;
 }
 
+Expected<std::string> editedMaterialsJson(const Scene& initial,
+                                          const std::vector<Material>& current) {
+    nlohmann::json out = nlohmann::json::object();
+    for (std::size_t k = 0; k < current.size() && k < initial.materials.size(); ++k) {
+        const Material& before = initial.materials[k];
+        const Material& after = current[k];
+        bool representable = true;
+        nlohmann::json entry = materialExtensionToJson(after.spectral, &representable);
+        if (before.spectral.fluorescence && !after.spectral.fluorescence) {
+            entry["fluorescence"] = nullptr;
+        }
+        if (entry == materialExtensionToJson(before.spectral)) continue;  // not edited
+        if (!representable) entry.erase("fluorescence");  // unchanged MTL Ks colour
+        if (const auto found = out.find(after.name); found != out.end() && *found != entry) {
+            return Error{concat("materials named '", after.name,
+                                "' were edited differently; a --materials entry names every "
+                                "material of that name, so the edits cannot be saved")};
+        }
+        out[after.name] = std::move(entry);
+    }
+    // One line per material, so the file reads and diffs by material.
+    std::string text = "{";
+    for (auto it = out.begin(); it != out.end(); ++it)
+        text += concat(it == out.begin() ? "\n  " : ",\n  ", nlohmann::json(it.key()).dump(), ": ",
+                       it.value().dump());
+    return text + "\n}\n";
+}
+
+Expected<void> saveEditedMaterials(const std::string& path, const Scene& initial,
+                                   const std::vector<Material>& current) {
+    auto text = editedMaterialsJson(initial, current);
+    if (!text) return withContext(text.error(), path);
+    return writeFileAtomically(path, [&](std::FILE* file) {
+        std::fwrite(text->data(), 1, text->size(), file);
+        return std::string();
+    });
+}
+
 Material materialFromDraft(const Material& base, const MaterialDraft& draft) {
     Material material = base;
     if (draft.spectralReflectance) {
@@ -131,6 +170,11 @@ Material materialFromDraft(const Material& base, const MaterialDraft& draft) {
             break;
     }
     return material;
+}
+
+void EditHistory::record(std::size_t index, Material material, MaterialDraft draft) {
+    undo_.push_back({index, std::move(material), draft});
+    redo_.clear();
 }
 
 MaterialDraft draftOf(const Material& material) {

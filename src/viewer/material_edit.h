@@ -9,6 +9,7 @@
 // check (reflectance + absorption <= 1) is Session::setMaterial's.
 #include <array>
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,17 @@ Expected<std::vector<std::size_t>> editTargets(const Scene& scene, const Materia
 
 // `material` with the edit's member overlaid (scene/material.h mergeExtension).
 Material applyEdit(Material material, const MaterialEdit& edit);
+
+// The --materials JSON (docs/cli.md) that turns `initial` (the scene as loaded) into `current`
+// (the same materials, edited): one entry per edited material, by name, with its spectral members
+// ("fluorescence": null where an edit removed it). `daisy render SCENE --materials FILE` then
+// solves with exactly the materials the viewer shows. Errors: two materials of one name edited
+// differently (a --materials entry names every material of that name).
+Expected<std::string> editedMaterialsJson(const Scene& initial,
+                                          const std::vector<Material>& current);
+// editedMaterialsJson written to `path` (core/atomic_file.h: whole or not at all).
+Expected<void> saveEditedMaterials(const std::string& path, const Scene& initial,
+                                   const std::vector<Material>& current);
 
 // The editor's controls for one material.
 struct MaterialDraft {
@@ -60,6 +72,44 @@ inline constexpr std::array<const char*, 4> kFluorophorePresets = {"brightener",
 // The material `draft` describes over the scene's material `base`: the reflectance always (RGB or
 // the control points, piecewise linear), emission and fluorescence unless "as loaded".
 Material materialFromDraft(const Material& base, const MaterialDraft& draft);
+
+// Undo and redo of material edits. One step is one gesture (a slider drag posts an edit per
+// frame; undo goes back to before the drag): record() at a gesture's first change, with the
+// material and draft before it.
+class EditHistory {
+public:
+    struct Step {
+        std::size_t index = 0;  // the material
+        Material material;
+        MaterialDraft draft;
+    };
+    // A new gesture on material `index` starts from `material` / `draft`; redo is cleared.
+    void record(std::size_t index, Material material, MaterialDraft draft);
+    // The step to apply to undo the last gesture, given what material `index` of that step is
+    // now (`current` returns it), which redo will restore; nullopt when there is none.
+    template <typename Current>
+    std::optional<Step> undo(Current&& current) {
+        return move(undo_, redo_, current);
+    }
+    template <typename Current>
+    std::optional<Step> redo(Current&& current) {
+        return move(redo_, undo_, current);
+    }
+    bool canUndo() const { return !undo_.empty(); }
+    bool canRedo() const { return !redo_.empty(); }
+
+private:
+    template <typename Current>
+    static std::optional<Step> move(std::vector<Step>& from, std::vector<Step>& to,
+                                    Current& current) {
+        if (from.empty()) return std::nullopt;
+        Step step = std::move(from.back());
+        from.pop_back();
+        to.push_back(current(step.index));
+        return step;
+    }
+    std::vector<Step> undo_, redo_;
+};
 
 // A draft showing `material` as loaded (its RGB or spectral RGB reflectance; the control points
 // at the RGB's mean).

@@ -247,6 +247,47 @@ void spectralChart(const std::vector<double>& nm, const std::vector<float>& radi
     ImGui::TextDisabled("wavelength (nm); W m^-2 nm^-1");
 }
 
+// Undo / redo buttons (and the viewer's Ctrl+Z / Ctrl+Y requests): a step restores a
+// material and its controls as they were before (or after) one gesture.
+void editHistoryControls(UiState& state, SolveWorker& worker) {
+    ImGui::BeginDisabled(!state.history.canUndo());
+    state.undoRequest |= ImGui::Button("undo (Ctrl+Z)");
+    ImGui::EndDisabled();
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!state.history.canRedo());
+    state.redoRequest |= ImGui::Button("redo (Ctrl+Y)");
+    ImGui::EndDisabled();
+    const auto current = [&](std::size_t index) {
+        return EditHistory::Step{index, state.requested[index], state.drafts[index]};
+    };
+    std::optional<EditHistory::Step> step;
+    if (state.undoRequest) step = state.history.undo(current);
+    if (state.redoRequest) step = state.history.redo(current);
+    state.undoRequest = state.redoRequest = false;
+    if (!step || step->index >= state.requested.size()) return;
+    state.requested[step->index] = step->material;
+    state.drafts[step->index] = step->draft;
+    worker.setMaterial(step->index, step->material);
+}
+
+// "save materials": the session's materials, as edited, as a --materials file.
+void saveControls(UiState& state, const DisplaySnapshot& snapshot, const SolveWorker& worker) {
+    char path[512];
+    std::snprintf(path, sizeof path, "%s", state.materialsPath.c_str());
+    if (ImGui::Button("save materials")) {
+        auto saved =
+            saveEditedMaterials(state.materialsPath, worker.initialScene(), snapshot.materials);
+        state.savedMessage = saved
+            ? concat("wrote ", state.materialsPath, " (daisy render ", worker.initialScene().path,
+                     " --materials ", state.materialsPath, ")")
+            : saved.error().message;
+    }
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(-1);
+    if (ImGui::InputText("##materials path", path, sizeof path)) state.materialsPath = path;
+    if (!state.savedMessage.empty()) ImGui::TextWrapped("%s", state.savedMessage.c_str());
+}
+
 void pickedPatch(const UiState& state, const DisplaySnapshot& snapshot, const Scene& scene,
                  const SolveWorker& worker) {
     if (!state.picked) {
@@ -270,11 +311,14 @@ void pickedPatch(const UiState& state, const DisplaySnapshot& snapshot, const Sc
 
 }  // namespace
 
-void initUi(UiState& state, const Scene& scene, const std::string& wavelengthsText) {
+void initUi(UiState& state, const Scene& scene, const std::string& wavelengthsText,
+            const std::string& materialsPath) {
     state.wavelengthsText = wavelengthsText;
     state.drafts.clear();
     for (const Material& material : scene.materials)
         state.drafts.push_back(draftOf(material));
+    state.requested = scene.materials;
+    state.materialsPath = materialsPath;
 }
 
 void drawPanel(UiState& state, const DisplaySnapshot& snapshot, SolveWorker& worker,
@@ -308,18 +352,28 @@ void drawPanel(UiState& state, const DisplaySnapshot& snapshot, SolveWorker& wor
         if (snapshot.refusedEdits > state.refusalsSeen) {
             state.refusalsSeen = snapshot.refusedEdits;
             const std::size_t refused = snapshot.refusedMaterial;
-            if (refused < state.drafts.size() && refused < snapshot.materials.size())
+            if (refused < state.drafts.size() && refused < snapshot.materials.size()) {
                 state.drafts[refused] = draftOf(snapshot.materials[refused]);
+                state.requested[refused] = snapshot.materials[refused];
+            }
         }
+        editHistoryControls(state, worker);
+        saveControls(state, snapshot, worker);
         for (std::size_t k = 0; k < state.drafts.size() && k < scene.materials.size(); ++k) {
             ImGui::PushID(int(k));
             if (ImGui::TreeNode(scene.materials[k].name.c_str())) {
-                if (materialEditor(state.drafts[k]))
-                    worker.setMaterial(k, materialFromDraft(scene.materials[k], state.drafts[k]));
+                const MaterialDraft before = state.drafts[k];
+                if (materialEditor(state.drafts[k])) {
+                    if (!state.gesture) state.history.record(k, state.requested[k], before);
+                    state.gesture = true;
+                    state.requested[k] = materialFromDraft(scene.materials[k], state.drafts[k]);
+                    worker.setMaterial(k, state.requested[k]);
+                }
                 ImGui::TreePop();
             }
             ImGui::PopID();
         }
+        if (!ImGui::IsAnyItemActive()) state.gesture = false;
     }
     if (ImGui::CollapsingHeader("picked patch", ImGuiTreeNodeFlags_DefaultOpen))
         pickedPatch(state, snapshot, scene, worker);

@@ -29,6 +29,12 @@ struct UiState {
     double appliedEv = 0;  // the exposure in use, stops
     FalseRange range;  // of the false colour in use
     std::vector<MaterialDraft> drafts;  // per material; filled by initUi
+    std::vector<Material> requested;  // per material: what the panel last asked the worker for
+    EditHistory history;
+    bool gesture = false;  // an edit gesture (a drag) is under way: one undo step
+    bool undoRequest = false, redoRequest = false;  // Ctrl+Z, Ctrl+Y (set by the viewer)
+    std::string materialsPath;  // "save materials" writes here
+    std::string savedMessage;  // the last save's outcome
     bool panelCollapsed = false;  // the docked panel folded to its title bar
     bool frameAllRequest = false;  // "frame all": the whole scene in view
     int refusalsSeen = 0;  // DisplaySnapshot::refusedEdits already reverted in the drafts
@@ -38,8 +44,9 @@ struct UiState {
 // The docked panel's width in pixels (at most half the window); the picture fills the rest.
 inline constexpr float kPanelWidth = 400;
 
-// Fills the drafts from the scene's materials.
-void initUi(UiState& state, const Scene& scene, const std::string& wavelengthsText);
+// Fills the drafts from the scene's materials; "save materials" defaults to `materialsPath`.
+void initUi(UiState& state, const Scene& scene, const std::string& wavelengthsText,
+            const std::string& materialsPath);
 
 // Draws the panel (between ImGui::NewFrame and ImGui::Render) and posts edits to `worker`.
 void drawPanel(UiState& state, const DisplaySnapshot& snapshot, SolveWorker& worker,

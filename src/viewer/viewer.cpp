@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <thread>
@@ -188,8 +189,8 @@ private:
     bool dragging_ = false;
     InputEvents events_;
     int settleFrames_ = 0;  // frames still to draw after the last input (Dear ImGui's hover)
-    bool f12Down_ = false, rDown_ = false, homeDown_ = false, cDown_ = false, fDown_ = false,
-         tabDown_ = false;
+    bool f12Down_ = false, rDown_ = false, homeDown_ = false, zDown_ = false, yDown_ = false,
+         cDown_ = false, fDown_ = false, tabDown_ = false;
 };
 
 InputEvents& eventsOf(GLFWwindow* window) {
@@ -372,7 +373,10 @@ int Viewer::open() {
         logError(concat("daisy view: ", made.error().message));
         return 2;
     }
-    initUi(ui_, scene_, options_.wavelengthsText);
+    const std::string materialsPath = !options_.saveMaterialsPath.empty()
+        ? options_.saveMaterialsPath
+        : std::filesystem::path(scene_.path).stem().string() + ".materials.json";
+    initUi(ui_, scene_, options_.wavelengthsText, materialsPath);
     ui_.autoExposure = options_.exposure.automatic;
     ui_.ev = static_cast<float>(options_.exposure.ev);
     if (showPanel_ || options_.panel) {
@@ -563,6 +567,13 @@ void Viewer::handleInput(double dt) {
         camera_->fly(forward * speed, sideways * speed, up * speed);
     if (pressed(window_, GLFW_KEY_R, rDown_)) ui_.cameraRequest = -2;
     if (pressed(window_, GLFW_KEY_HOME, homeDown_)) ui_.frameAllRequest = true;
+    const bool control = glfwGetKey(window_, GLFW_KEY_LEFT_CONTROL) == GLFW_PRESS ||
+        glfwGetKey(window_, GLFW_KEY_RIGHT_CONTROL) == GLFW_PRESS;
+    const bool shift = glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
+        glfwGetKey(window_, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
+    if (pressed(window_, GLFW_KEY_Z, zDown_) && control)
+        (shift ? ui_.redoRequest : ui_.undoRequest) = true;
+    if (pressed(window_, GLFW_KEY_Y, yDown_) && control) ui_.redoRequest = true;
     if (pressed(window_, GLFW_KEY_C, cDown_) && !scene_.cameras.empty())
         ui_.cameraRequest = (cameraIndex_ + 1) % int(scene_.cameras.size());
     if (pressed(window_, GLFW_KEY_F, fDown_)) ui_.fly = !ui_.fly;
@@ -990,6 +1001,16 @@ int Viewer::run() {
                     " ms; ", snapshot->iteration, " iterations, residual ",
                     formatNumber(snapshot->residual, 3), ")",
                     snapshot->message.empty() ? "" : concat("; ", snapshot->message)));
+            }
+            if (!options_.saveMaterialsPath.empty()) {
+                auto saved =
+                    saveEditedMaterials(options_.saveMaterialsPath, scene_, snapshot->materials);
+                if (!saved) {
+                    logError(saved.error().message);
+                    vkDeviceWaitIdle(context_.device);
+                    return 2;
+                }
+                logInfo(concat("view: wrote ", options_.saveMaterialsPath));
             }
             if (snapshot->refusedEdits > 0) {
                 logError(concat("daisy view: ", snapshot->message,

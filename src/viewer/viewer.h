@@ -23,6 +23,9 @@ struct ViewerOptions {
     Exposure exposure;  // --exposure
     int frames = 0;  // > 0: draw at least this many frames, then exit (the test mode)
     std::string screenshotPath;  // the test mode's PNG of the last frame; F12 writes one too
+    // The edited materials as a --materials file: written at the test mode's last frame, and
+    // the panel's "save materials" default (else SCENE_STEM.materials.json).
+    std::string saveMaterialsPath;
     std::vector<std::string> edits;  // --edit NAME.FIELD=VALUE, applied after the first frame
     bool exerciseWindow = false;  // --exercise-window: resize and minimise during the frames
     bool panel = false;  // --panel: show the panel in the test mode too

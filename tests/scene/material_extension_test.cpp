@@ -305,5 +305,36 @@ TEST(MaterialExtension, MatrixErrors) {
                 "fluorescence.matrix: 'values' is missing");
 }
 
+// materialExtensionToJson is parseMaterialExtension's inverse: every form parses back to an
+// extension that writes the same JSON, numbers exact (0.1 + 0.2 keeps its last bit).
+TEST(MaterialExtension, WritesWhatParsesBackExactly) {
+    const char* forms[] = {
+        R"({"reflectance": {"wavelengths": [400, 550.5, 700], "values": [0.1, 0.30000000000000004, 0.9]}})",
+        R"({"reflectance": {"rgb": [0.25, 0.5, 0.75], "scale": 0.5}})",
+        R"({"reflectance": {"gaussian": {"peak": 600, "fwhm": 80}}})",
+        R"({"emission": {"preset": "blacklight", "scale": 2}})",
+        R"({"emission": {"blackbody": 2700, "scale": 12.5}})",
+        R"({"emission": {"rgb": [0, 0, 0], "scale": 0}})",
+        R"({"fluorescence": {"preset": "fluorescein"}})",
+        R"({"fluorescence": {"absorption": {"gaussian": {"peak": 365, "fwhm": 40}, "scale": 0.5},
+            "emission": {"gaussian": {"peak": 450, "fwhm": 50}}, "quantumYield": 0.8}})",
+        R"({"fluorescence": {"matrix": {"wavelengths": [350, 450], "values": [[0.5, 0], [0.25, 0.9]]}}})",
+        R"({"fluorescence": null})",
+    };
+    for (const char* text : forms) {
+        auto parsed = parse(text);
+        ASSERT_TRUE(parsed) << text << ": " << parsed.error().message;
+        const json written = materialExtensionToJson(*parsed);
+        EXPECT_EQ(written, json::parse(text)) << text;
+        auto again = parseMaterialExtension(written, kWhere);
+        ASSERT_TRUE(again) << again.error().message;
+        EXPECT_EQ(materialExtensionToJson(*again), written) << text;
+    }
+    // "fluorescence": null removes a material's fluorescence when overlaid.
+    MaterialExtension fluorescent = *parse(R"({"fluorescence": {"preset": "neon"}})");
+    mergeExtension(fluorescent, *parse(R"({"fluorescence": null})"));
+    EXPECT_FALSE(fluorescent.fluorescence);
+}
+
 }  // namespace
 }  // namespace daisy

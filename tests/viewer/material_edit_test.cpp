@@ -5,9 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
 #include <variant>
 
 #include "pipeline/session.h"
+#include "scene/material_extension.h"
 #include "verify/scenes.h"
 
 namespace daisy::viewer {
@@ -135,6 +137,72 @@ TEST(MaterialEdit, DraftsBecomeMaterialsTheSessionChecks) {
     glowing.reflectanceRgb = {0.5f, 0.5f, 0.5f};
     ASSERT_TRUE(session->setMaterial(0, materialFromDraft(session->scene().materials[0], glowing)));
     EXPECT_EQ(session->fluorescentOperatorCount(), 1u);
+}
+
+// Undo takes back a whole gesture and redo restores it; a new gesture after an undo clears redo.
+TEST(MaterialEdit, HistoryUndoesAndRedoesWholeGestures) {
+    Material a;
+    a.name = "a";
+    Material b = a, c = a;
+    a.baseColor = {0.1, 0.1, 0.1};
+    b.baseColor = {0.5, 0.5, 0.5};
+    c.baseColor = {0.9, 0.9, 0.9};
+    std::vector<Material> state = {a, a};
+    EditHistory history;
+    EXPECT_FALSE(history.canUndo());
+    history.record(0, state[0], draftOf(state[0]));  // a drag on material 0 ends at b
+    state[0] = b;
+    history.record(1, state[1], draftOf(state[1]));  // then material 1 to c
+    state[1] = c;
+    const auto current = [&](std::size_t index) {
+        return EditHistory::Step{index, state[index], draftOf(state[index])};
+    };
+    const auto apply = [&](const std::optional<EditHistory::Step>& step) {
+        ASSERT_TRUE(step);
+        state[step->index] = step->material;
+    };
+    apply(history.undo(current));
+    EXPECT_EQ(state[1].baseColor, a.baseColor);
+    EXPECT_EQ(state[0].baseColor, b.baseColor);
+    apply(history.undo(current));
+    EXPECT_EQ(state[0].baseColor, a.baseColor);
+    EXPECT_FALSE(history.canUndo());
+    apply(history.redo(current));
+    EXPECT_EQ(state[0].baseColor, b.baseColor);
+    EXPECT_TRUE(history.canRedo());
+    history.record(0, state[0], draftOf(state[0]));  // a new gesture: redo is gone
+    EXPECT_FALSE(history.canRedo());
+    EXPECT_FALSE(history.redo(current));
+}
+
+// The saved --materials JSON holds the edited materials only, overlays back to exactly the
+// edited set, removes fluorescence with null, and refuses two same-named materials edited apart.
+TEST(MaterialEdit, EditedMaterialsSaveAsAMaterialsFile) {
+    Scene scene = verify::unitRoomScene(1, "D65");
+    scene.materials[2].spectral.fluorescence = FluorophorePreset{"fluorescein"};
+    std::vector<Material> current = scene.materials;
+    current[0] = applyEdit(current[0], *parseMaterialEdit("face0.reflectance=rgb(0.2,0.6,0.9)"));
+    current[2].spectral.fluorescence.reset();
+    auto text = editedMaterialsJson(scene, current);
+    ASSERT_TRUE(text) << text.error().message;
+    const nlohmann::json saved = nlohmann::json::parse(*text);
+    EXPECT_EQ(saved.size(), 2u) << *text;
+    ASSERT_TRUE(saved.contains("face0"));
+    EXPECT_EQ(saved["face0"]["reflectance"]["rgb"][1], 0.6);
+    ASSERT_TRUE(saved.contains("face2"));
+    EXPECT_TRUE(saved["face2"]["fluorescence"].is_null());
+    for (std::size_t k : {std::size_t(0), std::size_t(2)}) {
+        Material overlaid = scene.materials[k];
+        auto extension = parseMaterialExtension(saved[current[k].name], "m.json");
+        ASSERT_TRUE(extension) << extension.error().message;
+        mergeExtension(overlaid.spectral, *extension);
+        EXPECT_EQ(materialExtensionToJson(overlaid.spectral),
+                  materialExtensionToJson(current[k].spectral));
+    }
+    scene.materials[3].name = current[3].name = "face0";
+    current[3] = applyEdit(current[3], *parseMaterialEdit("face0.reflectance=rgb(0.5,0.5,0.5)"));
+    EXPECT_FALSE(editedMaterialsJson(scene, current));
+    EXPECT_TRUE(editedMaterialsJson(scene, scene.materials));  // nothing edited: {}
 }
 
 }  // namespace

@@ -195,6 +195,34 @@ TEST(ViewCli, EditedReflectanceTurnsTheRedWallGreen) {
     EXPECT_GT(greenAfter, 3 * redAfter) << redAfter / wall << " " << greenAfter / wall;
 }
 
+// View, edit, save, render: `daisy render --materials` of the saved file shows what the viewer
+// showed after the edits.
+TEST(ViewCli, SavedMaterialsRenderAsTheViewerShowedThem) {
+    const auto dir = test::testTempDir();
+    const std::string viewPng = (dir / "view.png").string();
+    const std::string renderPng = (dir / "render.png").string();
+    const std::string saved = (dir / "edited.json").string();
+    const RunResult viewed =
+        runView(kScene + kSize +
+                " --frames 2 --edit 'white.reflectance=rgb(0.2,0.6,0.9)' --edit "
+                "'red.fluorescence={\"preset\": \"fluorescein\"}' --save-materials " +
+                saved + " --screenshot " + viewPng);
+    DAISY_VIEW_OR_SKIP(viewed);
+    ASSERT_EQ(viewed.status, 0) << viewed.output;
+    const RunResult rendered = test::runDaisy("render " + kScene + kSize + " --materials " + saved +
+                                              " --gather none --edge-spp 0 -o " + renderPng);
+    ASSERT_EQ(rendered.status, 0) << rendered.output;
+    auto view = readPng(viewPng);
+    auto render = readPng(renderPng);
+    ASSERT_TRUE(view) << view.error().message;
+    ASSERT_TRUE(render) << render.error().message;
+    EXPECT_LT(meanDeltaE(*view, *render), 1.0);
+    // And the edit shows: the back wall (right of the tall block) turned from white to
+    // rgb(0.2, 0.6, 0.9): under the warm light, green well over red (white showed red >= green).
+    const float* wall = view->at(110, 40);
+    EXPECT_GT(wall[1], wall[0] + 20) << wall[0] << " " << wall[1] << " " << wall[2];
+}
+
 TEST(ViewCli, ResizingAndMinimisingDoNotCrash) {
     const auto dir = test::testTempDir();
     const std::string png = (dir / "resized.png").string();
