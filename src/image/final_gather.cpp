@@ -29,9 +29,20 @@ shared::vec3 toVec3(const Vec3d& v) {
     return {float(v.x), float(v.y), float(v.z)};
 }
 
-bool emits(const RadiositySystem& system, uint32_t patch) {
-    const double* e = system.emissionRow(patch);
-    return std::any_of(e, e + system.wavelengthCount, [](double v) { return v > 0; });
+// What the patches emit themselves (patchCount x m): E without the punctual lights' direct
+// light, which the patches reflect (it stays in the smooth part, per patch) and which is not a
+// source to gather. Treating every lit patch as a light made the gathered image 11% brighter
+// than the path tracer and `--gather none` in a room lit by a point light.
+std::vector<double> ownEmission(const RadiositySystem& system) {
+    std::vector<double> own = system.emission;
+    for (std::size_t i = 0; i < system.punctualEmission.size(); ++i)
+        own[i] -= system.punctualEmission[i];
+    return own;
+}
+
+bool emits(std::span<const double> emission, std::size_t m, uint32_t patch) {
+    const double* e = emission.data() + std::size_t(patch) * m;
+    return std::any_of(e, e + m, [](double v) { return v > 0; });
 }
 
 // One emitting source triangle: its geometry, its emission E (m values) and its power per unit
@@ -43,19 +54,21 @@ struct Light {
     uint32_t spectrum;  // lights with equal emission share it: 0, 1, ... in order of appearance
 };
 
-// The emitting source triangles of the scene, coplanar faces merged (image/emitter_lights.h).
+// The emitting source triangles of the scene, coplanar faces merged (image/emitter_lights.h);
+// `emission` is ownEmission(system), which the lights point into.
 std::vector<Light> lightsOf(const Scene& scene, const PatchMesh& patches,
-                            const RadiositySystem& system) {
+                            const RadiositySystem& system, std::span<const double> emission) {
+    const std::size_t m = system.wavelengthCount;
     std::vector<uint32_t> triangles, emissionClass;
     std::vector<uint32_t> patchOf(scene.mesh.triangleCount(), kNoPatch);
     std::vector<uint32_t> classOf(scene.mesh.triangleCount(), 0);
     std::map<std::vector<double>, uint32_t> classes;
     for (uint32_t p = 0; p < patches.patchCount(); ++p) {
         const uint32_t t = patches.sourceTriangle[p];
-        if (patchOf[t] != kNoPatch || !emits(system, p)) continue;
+        if (patchOf[t] != kNoPatch || !emits(emission, m, p)) continue;
         patchOf[t] = p;
         triangles.push_back(t);
-        const double* e = system.emissionRow(p);
+        const double* e = emission.data() + std::size_t(p) * m;
         emissionClass.push_back(
             classes.emplace(std::vector<double>(e, e + system.wavelengthCount), classes.size())
                 .first->second);
@@ -63,14 +76,14 @@ std::vector<Light> lightsOf(const Scene& scene, const PatchMesh& patches,
     }
     std::vector<Light> lights;
     for (const LightTriangle& light : mergeEmitterFaces(scene.mesh, triangles, emissionClass)) {
-        const double* emission = system.emissionRow(patchOf[light.sourceTriangle]);
+        const double* e = emission.data() + std::size_t(patchOf[light.sourceTriangle]) * m;
         double power = 0;
-        for (std::size_t k = 0; k < system.wavelengthCount; ++k)
-            power += emission[k] * system.binWidthsNm[k];
+        for (std::size_t k = 0; k < m; ++k)
+            power += e[k] * system.binWidthsNm[k];
         lights.push_back(
             {shared::makePatchGeometry(toVec3(light.corners[0]), toVec3(light.corners[1]),
                                        toVec3(light.corners[2])),
-             emission, power, classOf[light.sourceTriangle]});
+             e, power, classOf[light.sourceTriangle]});
     }
     return lights;
 }
@@ -391,13 +404,14 @@ std::vector<double> radiosityWithoutDirectLight(const RadiositySystem& system,
                                                 std::span<const double> radiosity) {
     const std::size_t n = system.patchCount, m = system.wavelengthCount;
     DAISY_CHECK(radiosity.size() == n * m && transport.patchCount() == n);
+    const std::vector<double> own = ownEmission(system);
     std::vector<uint8_t> emitter(n), receiver(n);
     for (uint32_t j = 0; j < n; ++j) {
-        emitter[j] = emits(system, j);
+        emitter[j] = emits(own, m, j);
         receiver[j] = !system.operators[system.patchOperator[j]].isZero;
     }
     std::vector<double> direct(n * m, 0.0);
-    transport.gatherFrom(emitter, receiver, system.emission, m, direct);
+    transport.gatherFrom(emitter, receiver, own, m, direct);
     std::vector<double> out(radiosity.begin(), radiosity.end());
     std::vector<double> reflected(m);
     for (uint32_t i = 0; i < n; ++i) {
@@ -426,7 +440,8 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
     auto caster = makeRayCaster(patches, {.packetMode = PacketMode::Packet16, .robust = true});
     if (!caster) return withContext(caster.error(), "final gather");
     const RayCaster& tracer = **caster;
-    const std::vector<Light> lights = lightsOf(scene, patches, system);
+    const std::vector<double> own = ownEmission(system);
+    const std::vector<Light> lights = lightsOf(scene, patches, system, own);
 
     const std::size_t m = set.size();
     const int channels = int(spectral ? m : 0) + 4;

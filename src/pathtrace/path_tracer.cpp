@@ -15,6 +15,8 @@
 #include "geometry/patch_mesh.h"
 #include "image/camera.h"
 #include "image/pixel_samples.h"
+#include "image/texture_detail.h"
+#include "radiosity/punctual_lights.h"
 #include "radiosity/radiosity_system.h"
 #include "raycast/ray_caster.h"
 #include "shared/rng.h"
@@ -156,8 +158,43 @@ struct Tracer {
     const EmitterTable& emitters;
     const RayCaster& caster;
     const Responses& responses;
+    const std::vector<PunctualLight>& lights;
+    const std::vector<std::vector<double>>& lightSpectra;  // punctualLightSpectra
     double offset;  // origin offset along the normal, scene units
+    double far;  // a length that leaves the scene from anywhere in it, scene units
     int maxBounces;
+
+    // Next-event estimation to every punctual light (a delta light, which no ray can hit): the
+    // irradiance c I cos(theta) falloff / d^2 at the surface point (directional: c I cos) behind
+    // a shadow ray from x (the point lifted off the surface), times the 1 / pi of the Lambertian
+    // reflection. A light too close for d^3 to be a normal double adds nothing.
+    template <typename AddEmission>
+    void addPunctualLights(const Vec3d& surface, const Vec3d& x, const Vec3d& n,
+                           const std::vector<double>& next, SegmentArrays& segment, uint64_t& rays,
+                           const AddEmission& addEmission) const {
+        for (std::size_t l = 0; l < lights.size(); ++l) {
+            const PunctualLight& light = lights[l];
+            double g = 0;
+            Vec3d end;
+            if (light.type == PunctualLight::Type::Directional) {
+                g = -dot(n, light.direction);
+                end = x - light.direction * far;
+            } else {
+                const Vec3d d = light.position - surface;
+                const double r = length(d);
+                g = dot(n, d) / (r * r * r) *
+                    punctualFalloff(light, r, -dot(light.direction, d) / r);
+                end = light.position;
+            }
+            if (!(g > 0) || !std::isfinite(g)) continue;
+            segment.set(0, float(x.x), float(x.y), float(x.z), float(end.x), float(end.y),
+                        float(end.z));
+            uint8_t blocked = 0;
+            caster.occluded(segment, {&blocked, 1});
+            ++rays;
+            if (!blocked) addEmission(next, lightSpectra[l].data(), g / kPi);
+        }
+    }
 
     // Sets `value` (responses.rows values: X Y Z [L_0 .. L_{m-1}]) to one camera ray's estimate;
     // returns whether it hit. `weight` and `next` are scratch of rows x m. Counts rays in `rays`.
@@ -180,6 +217,7 @@ struct Tracer {
         caster.closestSurfaceHits({&ray, 1}, {&hit, 1}, 0.0f);
         ++rays;
         if (hit.patch == kNoPatch) return false;
+        resolveBackFace(mesh, ray, hit);
         double previousCos = 1;  // cos at the last vertex of the indirect ray's direction
         Vec3d previousX, previousN;  // the last vertex and its normal
         double previousTotal = 0;  // the emitter weights' total there
@@ -188,6 +226,7 @@ struct Tracer {
             const Vec3d& n = mesh.normals[p];
             const Vec3d dir{ray.direction[0], ray.direction[1], ray.direction[2]};
             if (dot(dir, n) >= 0) break;  // the back of a one-sided surface: black
+            // (A double-sided surface's back face is its back patch, resolved above.)
             if (bounce == 0) {
                 addEmission(weight, system.emissionRow(p), 1 / kPi);
             } else if (const int entry = emitters.entryOf[p]; entry >= 0) {
@@ -218,8 +257,9 @@ struct Tracer {
             }
             const auto& c = mesh.patches[p];
             const double w1 = hit.u, w2 = hit.v, w0 = 1 - w1 - w2;
-            const Vec3d x = mesh.positions[c[0]] * w0 + mesh.positions[c[1]] * w1 +
-                mesh.positions[c[2]] * w2 + n * offset;
+            const Vec3d surface =
+                mesh.positions[c[0]] * w0 + mesh.positions[c[1]] * w1 + mesh.positions[c[2]] * w2;
+            const Vec3d x = surface + n * offset;
 
             // Direct light: one emitter point, the emitter drawn by its weight at x.
             const double lightTotal =
@@ -260,6 +300,8 @@ struct Tracer {
                 }
             }
 
+            addPunctualLights(surface, x, n, next, segment, rays, addEmission);
+
             if (bounce + 1 >= maxBounces) break;
             double survive = 1;
             if (bounce + 1 >= kRouletteStart) {
@@ -281,6 +323,7 @@ struct Tracer {
             caster.closestSurfaceHits({&ray, 1}, {&hit, 1}, 0.0f);
             ++rays;
             if (hit.patch == kNoPatch) break;
+            resolveBackFace(mesh, ray, hit);
         }
         return true;
     }
@@ -316,13 +359,20 @@ Expected<PathTraceResult> pathTrace(const Scene& scene, const WavelengthSet& set
                             settings.maxBounces, " bounces must all be positive")};
     }
     if (auto ok = checkRayCamera(camera); !ok) return withContext(ok.error(), "path trace");
-    auto mesh = buildPatchMesh(scene.mesh, 0);
+    // Double-sided materials' back patches, as the radiosity session makes them: the back face
+    // reflects and emits as the front does.
+    std::vector<uint8_t> doubleSided(scene.materials.size());
+    for (std::size_t m = 0; m < doubleSided.size(); ++m)
+        doubleSided[m] = scene.materials[m].doubleSided;
+    auto mesh = buildPatchMesh(scene.mesh, 0, UINT32_MAX, doubleSided);
     if (!mesh) return withContext(mesh.error(), "path trace");
     auto system = buildRadiositySystem(scene, *mesh, set);
     if (!system) return withContext(system.error(), "path trace");
     auto caster = makeRayCaster(*mesh, {.packetMode = PacketMode::Single});
     if (!caster) return withContext(caster.error(), "path trace");
     const EmitterTable emitters = emitterTable(*mesh, *system);
+    auto lightSpectra = punctualLightSpectra(scene.lights, set);
+    if (!lightSpectra) return withContext(lightSpectra.error(), "path trace");
 
     double extent = 0;
     for (const Vec3d& v : mesh->positions)
@@ -333,7 +383,10 @@ Expected<PathTraceResult> pathTrace(const Scene& scene, const WavelengthSet& set
                         emitters,
                         **caster,
                         responses,
+                        scene.lights,
+                        *lightSpectra,
                         1e-5 * std::max(extent, 1e-3),
+                        4 * std::max(extent, 1e-3),
                         settings.maxBounces};
 
     const std::size_t m = set.size();

@@ -1,8 +1,10 @@
 #pragma once
 // The independent reference: a spectral path tracer of the same scene model as the
 // radiosity pipeline, sharing none of its light transport (no F, no solver, no vertex radiance).
-// Surfaces are one-sided Lambertian reflectors/emitters on their geometric (front) normal, as in
-// the radiosity model (DESIGN.md section 2): a back face neither emits nor reflects. Wavelengths
+// Surfaces are Lambertian reflectors/emitters on their geometric (front) normal, as in the
+// radiosity model (DESIGN.md section 2): the back face of a one-sided surface neither emits nor
+// reflects; a double-sided material's (glTF doubleSided) back face is its back patch
+// (PatchMesh::backPatch), reflecting and emitting as the front does. Wavelengths
 // are the set's samples, all m carried along each path; a surface applies its whole
 // re-radiation matrix M (fluorescence.h) to the path's throughput, so fluorescence moves light
 // between samples exactly as the radiosity equation does, without sampling a wavelength.
@@ -12,7 +14,10 @@
 // point y sampled by power, E_y[k] / pi * cos_x cos_y / r^2 / pdf_area(y) behind a shadow ray;
 // indirect H by one cosine-weighted ray (pdf cos / pi, so H ~ pi L_in). An emitter both
 // techniques can reach is weighted by the power heuristic (multiple importance sampling, Veach &
-// Guibas 1995), which keeps receivers close to a light (r^2 -> 0) from firefly noise. Russian
+// Guibas 1995), which keeps receivers close to a light (r^2 -> 0) from firefly noise. Punctual
+// lights (KHR_lights_punctual, delta lights no ray can hit) add their irradiance c I cos falloff /
+// d^2 (directional: c I cos) at every vertex behind a shadow ray, the same light
+// radiosity/punctual_lights.h integrates over each patch. Russian
 // roulette after three bounces. Pixel samples are stratified jittered (pixel_samples.h), box
 // filter. Randomness is counter-based on (seed, pixel, sample, dimension): deterministic in any
 // thread order.

@@ -34,6 +34,10 @@ struct RadiositySystem {
     std::vector<double> wavelengthsNm;  // m sample wavelengths
     std::vector<double> binWidthsNm;  // m weights: power = sum_k value_k * binWidthNm_k
     std::vector<double> emission;  // E, patchCount x m, row-major
+    // The part of `emission` that is punctual lights' direct light reflected once, M_i H_i
+    // (radiosity/punctual_lights.h), laid out as `emission`; empty when no light adds any. The
+    // rest is what the surfaces emit themselves: the final gather's light sources.
+    std::vector<double> punctualEmission;
     std::vector<double> areas;  // per patch
     std::vector<uint32_t> patchOperator;  // per patch: index into operators
     std::vector<MaterialOperator> operators;

@@ -197,6 +197,15 @@ double Spectrum::featureWidthNm() const {
     return impl_->featureWidthNm;
 }
 
+std::array<double, 2> Spectrum::definedRangeNm() const {
+    const Impl* impl = impl_.get();
+    while (impl->kind == Impl::Kind::Photons)
+        impl = impl->inner.get();
+    if (impl->kind == Impl::Kind::Table && !impl->holdEnds)
+        return {impl->nm.front(), impl->nm.back()};
+    return {-kInfinity, kInfinity};
+}
+
 bool Spectrum::isPiecewiseLinear() const {
     return impl_->kind == Impl::Kind::Constant || impl_->kind == Impl::Kind::Table;
 }
@@ -329,14 +338,26 @@ std::vector<double> sampleSpectrum(const WavelengthSet& set, const Spectrum& spe
         return samples;
     }
     const std::size_t last = set.size() - 1;
+    const auto [definedFromNm, definedToNm] = spectrum.definedRangeNm();
     for (std::size_t k = 0; k < set.size(); ++k) {
         const auto [first, end] = set.hatSupportNm(k);
         const double lk = set.wavelengthNm(k);
-        // Left half rises 0 -> 1 (flat 1 before the first sample), right half falls 1 -> 0
-        // (flat 1 after the last).
-        const double left = spectrum.integrate(first, lk, k == 0 ? 1 : 0, 1);
-        const double right = spectrum.integrate(lk, end, 1, k == last ? 1 : 0);
-        const double width = set.binWidthNm(k);
+        // One half of the hat, from lk to `edge`: falling to 0 at a neighbouring sample, or
+        // flat out to the domain's end beyond the first and last samples, where only the part
+        // the spectrum defines counts (file comment). Adds its weight to `width`.
+        double width = 0;
+        const auto half = [&](double edge, bool flat) {
+            const double a = std::min(lk, edge), b = std::max(lk, edge);
+            if (!flat) {
+                width += (b - a) / 2;
+                return edge < lk ? spectrum.integrate(a, b, 0, 1) : spectrum.integrate(a, b, 1, 0);
+            }
+            const double from = std::clamp(definedFromNm, a, b), to = std::clamp(definedToNm, a, b);
+            width += to - from;
+            return spectrum.integrate(from, to);
+        };
+        const double left = half(first, k == 0);
+        const double right = half(end, k == last);
         samples[k] = width > 0 ? (left + right) / width : spectrum(lk);
     }
     return samples;

@@ -13,7 +13,13 @@
 // - emission (power): sample k holds the hat-weighted mean integral s h_k / integral h_k
 //   (hats: wavelength_set.h). It conserves spectral power (sum_k s_k * binWidth_k = integral s
 //   over the set's domain), so a line between two samples (the 405 nm mercury line, a Gaussian
-//   narrower than the spacing) keeps its energy on any set;
+//   narrower than the spacing) keeps its energy on any set. The one exception is a table that
+//   stops short of the domain's ends: the flat parts of the first and last hats (out to 360 and
+//   830 nm) stand for wavelengths the set does not resolve, and there both integrals run only
+//   over the wavelengths the table covers, so a table ending exactly at the last sample gives it
+//   the mean over the table's last interval (the rising half hat), not that diluted by the
+//   empty band beyond. A table ending at 700 nm on a set ending at 700 nm then stands for the
+//   same spectrum held flat to 830 nm;
 // - reflectance and absorption (fractions that multiply the light pointwise): the value at the
 //   sample. Averaging them too would blur steep edges twice (once here, once in the hat
 //   reconstruction): on the fine set it doubles the RGB round-trip error of saturated colours
@@ -68,6 +74,9 @@ public:
     std::span<const double> kinksNm() const;
     // Narrowest feature, nm (a Gaussian's FWHM; infinity for tables): bounds integration steps.
     double featureWidthNm() const;
+    // The wavelengths where the spectrum has values of its own, nm: a table's first and last
+    // wavelengths when it is 0 outside them (holdEnds false), else -inf .. inf.
+    std::array<double, 2> definedRangeNm() const;
     // True when the spectrum is linear between kinks (a table or a constant).
     bool isPiecewiseLinear() const;
 

@@ -1,8 +1,10 @@
 // The path tracer's oracles: the white furnace (B = E / (1 - rho) everywhere in a
-// closed room of one material), the fluorescent furnace (B = (I - M)^-1 E), and a lit plane under
-// an area light (the closed-form point-to-polygon irradiance, Howell B-3 and Lambert's formula).
-// Each check allows five standard errors of the estimator's own noise, and asserts that noise is
-// small, so a wrong answer cannot hide in it.
+// closed room of one material), the fluorescent furnace (B = (I - M)^-1 E), a lit plane under
+// an area light (the closed-form point-to-polygon irradiance, Howell B-3 and Lambert's formula),
+// punctual lights over a plane (the inverse square cosine law), and a double-sided emitter and wall
+// facing each other with their backs (the same closed forms, and the radiosity solve's mean against
+// Howell C-11). Each check allows five standard errors of the estimator's own noise, and asserts
+// that noise is small, so a wrong answer cannot hide in it.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,6 +14,8 @@
 #include "geometry/patch_mesh.h"
 #include "image/origin_camera.h"
 #include "pathtrace/path_tracer.h"
+#include "pipeline/session.h"
+#include "radiosity/punctual_lights.h"
 #include "radiosity/radiosity_system.h"
 #include "verify/closed_forms.h"
 #include "verify/scenes.h"
@@ -28,6 +32,17 @@ struct ImageMean {
     std::vector<double> channels;  // mean of each channel over the image
     double standardErrorY = 0;  // of the mean Y, from the per-pixel variances
 };
+
+// A 3 x 3 image of `spp` samples per pixel, no progress line: with a 0.003 rad field of view
+// its pixels see one point.
+PathTraceSettings pointSettings(int spp) {
+    PathTraceSettings settings;
+    settings.width = 3;
+    settings.height = 3;
+    settings.samplesPerPixel = spp;
+    settings.showProgress = false;
+    return settings;
+}
 
 ImageMean imageMean(const PathTraceResult& r) {
     ImageMean mean;
@@ -132,11 +147,7 @@ TEST(PathTracer, LitPlaneMatchesPointToPolygonIrradiance) {
     scene.materials = {verify::flatMaterial("flat", 0.5, 0), verify::flatMaterial("flat", 0, 1)};
     auto set = WavelengthSet::fromWavelengths({550}, "one");
     ASSERT_TRUE(set.ok());
-    PathTraceSettings settings;
-    settings.width = 3;
-    settings.height = 3;
-    settings.samplesPerPixel = 16384;
-    settings.showProgress = false;
+    PathTraceSettings settings = pointSettings(16384);
     for (const Vec3d target : {Vec3d{0, 0, 0}, Vec3d{0.8, 0, 0.3}}) {
         auto r =
             pathTrace(scene, *set, lookAt(target + Vec3d{1.5, 0.6, 0.2}, target, 0.003), settings);
@@ -153,6 +164,132 @@ TEST(PathTracer, LitPlaneMatchesPointToPolygonIrradiance) {
     // The centre point is Howell B-3 four times over.
     EXPECT_NEAR(verify::pointToPolygon({0, 0, 0}, {0, 1, 0}, square),
                 4 * verify::pointToRectangleCorner(0.5, 0.5, 1), 1e-12);
+}
+
+// A point light and a spot over an open floor of reflectance 0.5: nothing else reflects, so the
+// floor's radiance at p is rho sum_l I_l cos(theta_l) falloff_l / d_l^2 / pi, the inverse square
+// cosine law with KHR_lights_punctual's spot falloff. A light 1e-300 m over the floor leaves every
+// pixel finite.
+TEST(PathTracer, PunctualLightsFollowTheInverseSquareCosineLaw) {
+    Scene scene;
+    scene.path = "lit floor";
+    verify::addQuad(scene.mesh, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, {-10, 0, -10}, 0);
+    scene.materials = {verify::flatMaterial("flat", 0.5, 0)};
+    const SpectrumSpec flat{TabulatedSpectrum{{300, 900}, {1, 1}}, 1.0};
+    PunctualLight bulb;
+    bulb.name = "bulb";
+    bulb.position = {0.3, 1, -0.2};
+    bulb.intensity = 2;
+    bulb.spectrum = flat;
+    PunctualLight spot = bulb;
+    spot.name = "spot";
+    spot.type = PunctualLight::Type::Spot;
+    spot.position = {0, 1.5, 0};
+    spot.direction = {0, -1, 0};
+    spot.intensity = 3;
+    spot.innerConeRad = 20 * kPi / 180;
+    spot.outerConeRad = 35 * kPi / 180;
+    scene.lights = {bulb, spot};
+    auto set = WavelengthSet::fromWavelengths({550}, "one");
+    ASSERT_TRUE(set.ok());
+    PathTraceSettings settings = pointSettings(4);
+    for (const Vec3d target : {Vec3d{0, 0, 0}, Vec3d{1.5 * std::tan(27 * kPi / 180), 0, 0}}) {
+        auto r =
+            pathTrace(scene, *set, lookAt(target + Vec3d{1.5, 0.6, 0.2}, target, 0.003), settings);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        double irradiance = 0;
+        for (const PunctualLight& light : scene.lights) {
+            const Vec3d d = light.position - target;
+            const double r2 = dot(d, d), cosine = d.y / std::sqrt(r2);
+            irradiance += light.intensity * cosine / r2 *
+                punctualFalloff(light, std::sqrt(r2), -dot(light.direction, d) / std::sqrt(r2));
+        }
+        const double y = imageMean(*r).channels[1] / set->xyzWeights(0)[1];
+        EXPECT_NEAR(y, 0.5 * irradiance / kPi, 1e-4 * y) << target;
+    }
+    // The second target lies in the spot's falloff band: (cos 27 - cos 35) / (cos 20 - cos 35)
+    // = 0.596, squared 0.355.
+    EXPECT_NEAR(punctualFalloff(spot, 1, std::cos(27 * kPi / 180)), 0.3554, 1e-4);
+
+    scene.lights = {bulb};
+    scene.lights[0].position = {0.1, 1e-300, 0.1};
+    settings.width = 16;
+    settings.height = 16;
+    auto r = pathTrace(scene, *set, lookAt({0.1, 1, 0.6}, {0.1, 0, 0.1}, 0.5), settings);
+    ASSERT_TRUE(r.ok());
+    for (const float v : r->image.pixels)
+        EXPECT_TRUE(std::isfinite(v));
+}
+
+// A double-sided emitter (the unit square at z = 1, front facing +z, E = 1, black) and a
+// double-sided wall (the unit square at z = 0, front facing -z, reflectance 0.5) that face each
+// other only with their backs, which glTF doubleSided makes surfaces too (back patches).
+Scene facingBacks(bool doubleSided) {
+    Scene scene;
+    scene.path = "facing backs";
+    verify::addGrid(scene.mesh, {0, 0, 0}, {0, 1, 0}, {1, 0, 0}, 4, 4, 0);  // faces -z
+    verify::addGrid(scene.mesh, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}, 4, 4, 1);  // faces +z
+    Material wall = verify::flatMaterial("wall", 0.5, 0), lamp = verify::flatMaterial("lamp", 0, 1);
+    wall.doubleSided = lamp.doubleSided = doubleSided;
+    scene.materials = {wall, lamp};
+    return scene;
+}
+
+// Both integrators against closed forms on facingBacks: the path tracer's radiance at points of
+// the wall's back is rho E F(p -> emitter) / pi (Lambert's point-to-polygon factor) and the
+// emitter's back shows E / pi; the radiosity solve's mean over the wall's back patches is rho E F
+// with F Howell C-11 (unit squares at distance 1). One-sided, the wall and the emitter's back
+// are black in both.
+TEST(PathTracer, DoubleSidedSurfacesEmitAndReflectOnBothFacesAsRadiosityDoes) {
+    auto set = WavelengthSet::fromWavelengths({550}, "one");
+    ASSERT_TRUE(set.ok());
+    const std::vector<Vec3d> lamp = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    PathTraceSettings settings = pointSettings(16384);
+    const double ybar = set->xyzWeights(0)[1];
+    for (const bool doubleSided : {true, false}) {
+        const Scene scene = facingBacks(doubleSided);
+        settings.samplesPerPixel = doubleSided ? 16384 : 16;  // one-sided, every sample is 0
+        // Points of the wall, seen from between the squares.
+        for (const Vec3d target : {Vec3d{0.5, 0.5, 0}, Vec3d{0.2, 0.7, 0}}) {
+            auto r = pathTrace(scene, *set, lookAt(target + Vec3d{0.3, 0.1, 0.45}, target, 0.003),
+                               settings);
+            ASSERT_TRUE(r.ok()) << r.error().message;
+            const double exact =
+                doubleSided ? 0.5 * verify::pointToPolygon(target, {0, 0, 1}, lamp) / kPi : 0.0;
+            const ImageMean mean = imageMean(*r);
+            const double se = mean.standardErrorY / ybar;
+            EXPECT_LT(se, 0.002 * std::max(exact, 0.01));
+            EXPECT_NEAR(mean.channels[1] / ybar, exact, 5 * se + 1e-4 * exact)
+                << target << (doubleSided ? " double-sided" : " one-sided");
+        }
+        // The emitter's back: E / pi, no reflection.
+        const Vec3d onLamp{0.4, 0.6, 1};
+        auto r = pathTrace(scene, *set, lookAt(onLamp + Vec3d{0.2, -0.1, -0.45}, onLamp, 0.003),
+                           settings);
+        ASSERT_TRUE(r.ok());
+        EXPECT_NEAR(imageMean(*r).channels[1] / ybar, doubleSided ? 1 / kPi : 0.0,
+                    1e-6);  // float pixels
+
+        SessionSettings session;
+        session.backend = "cpu";
+        session.subdivideMaxEdge = 0;
+        session.wavelengthSet = *set;
+        session.formFactors.progress = false;
+        session.logStages = false;
+        auto radiosity = Session::fromScene(scene, session);
+        ASSERT_TRUE(radiosity.ok()) << radiosity.error().message;
+        ASSERT_TRUE(radiosity->solve().ok());
+        const PatchMesh& patches = radiosity->patches();
+        const std::vector<double>& b = radiosity->solution().radiosity;
+        double flux = 0, area = 0;
+        for (uint32_t i = 0; i < 32; ++i) {  // the wall's 32 front patches
+            if (patches.backPatch[i] != kNoBackPatch)
+                flux += b[patches.backPatch[i]] * patches.areas[i];
+            area += patches.areas[i];
+        }
+        EXPECT_NEAR(flux / area, doubleSided ? 0.5 * verify::kHowellC11 : 0.0,
+                    0.005 * verify::kHowellC11);
+    }
 }
 
 // The variance estimate follows 1 / n. (Not in the furnace: there the emitters touch the

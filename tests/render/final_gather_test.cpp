@@ -3,7 +3,8 @@
 // else, so the receiver's radiance at x is exactly rho E F(x -> source) / pi, F by Lambert's
 // contour formula (verify/closed_forms.h), and the source's is E / pi. The smooth radiosity
 // image (--gather none) cannot show that gradient within a patch; the gathered image must, to
-// float precision. The path tracer must agree with it within its own noise.
+// float precision. The path tracer must agree with it within its own noise. Patches lit by a
+// punctual light are not gathered as sources.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -243,6 +244,36 @@ TEST(FinalGather, PerPixelSampleGridsKeepShadowsAndTheClosedForm) {
             EXPECT_NEAR(lit->at(x, y)[1] / yWeight, exact, 2e-4 * exact + 1e-7) << x << " " << y;
         }
     }
+}
+
+// A point light between the plates, with a source that also reflects (rho 0.5, E 1): the light
+// it and the receiver reflect is in their E for the solve, but it is not light they emit, so the
+// per-sample gather must gather exactly what it gathers without the point light (the source's
+// E = 1 only), while the solved radiosity (the smooth part) does change.
+TEST(FinalGather, PatchesLitByPunctualLightsAreNotGatheredAsSources) {
+    Plates p = plates();
+    p.scene.materials[1] = flat(0.5, 1);
+    const Session dark = solvedSession(p);
+    PunctualLight bulb;
+    bulb.name = "bulb";
+    bulb.position = {0.5, 0.5, 0.5};
+    bulb.intensity = 2;
+    p.scene.lights = {bulb};
+    const Session lit = solvedSession(p);
+    RenderSettings settings;
+    settings.width = 32;
+    settings.height = 24;
+    const DirectLightSettings direct;
+    auto without = renderDirectLight(dark.scene(), dark.patches(), dark.system(),
+                                     dark.wavelengths(), p.camera, settings, direct, false);
+    auto with = renderDirectLight(lit.scene(), lit.patches(), lit.system(), lit.wavelengths(),
+                                  p.camera, settings, direct, false);
+    ASSERT_TRUE(without.ok() && with.ok());
+    ASSERT_EQ(without->pixels.size(), with->pixels.size());
+    for (std::size_t i = 0; i < with->pixels.size(); ++i)
+        EXPECT_NEAR(with->pixels[i], without->pixels[i], 1e-6 * without->pixels[i] + 1e-9) << i;
+    // The light is in the solve: the receiver's radiosity rose.
+    EXPECT_GT(lit.solution().radiosity[0], 1.5 * dark.solution().radiosity[0]);
 }
 
 // Penumbra refinement: a black plate under the source, at z = 0.9 with its edge at x = 0.5,

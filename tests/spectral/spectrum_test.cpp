@@ -48,6 +48,41 @@ TEST(SpectralSpectrum, PiecewiseLinearOnTheSamplesIsExact) {
         EXPECT_NEAR(v, 0.25, 1e-12);
 }
 
+TEST(SpectralSpectrum, EmissionTableEndingAtTheSetsEndSamplesItsOwnMeanThere) {
+    // The Cornell light's table, 400..700 nm, on the default 400:700:10 set, which ends at the
+    // same wavelengths. The flat parts of the end hats (360..400, 700..830 nm) lie outside the
+    // table and do not count (spectrum.h), so each end sample is the mean of the table's linear
+    // interpolant under the half hat that the table covers. By hand: a line from s0 (at the far
+    // end of the half hat, weight 0) to s1 (at the sample, weight 1) has hat-weighted mean
+    // (s0 + 2 s1) / 3. At 700 nm, s(690) = 15.6 + 0.9 x 2.8 = 18.12 and s(700) = 18.4: 18.30667.
+    // At 400 nm, s(400) = 0 and s(410) = 0.8: 0.26667. Inside, the hat mean of a line is its
+    // value at the sample: 18.12 at 690 nm. (Diluted over the flat part, 700 nm was 0.678.)
+    const WavelengthSet set = autoWavelengths();
+    ASSERT_EQ(set.wavelengthNm(0), 400);
+    ASSERT_EQ(set.wavelengthNm(set.size() - 1), 700);
+    const SpectrumSpec cornell{TabulatedSpectrum{{400, 500, 600, 700}, {0, 8, 15.6, 18.4}}, 1.0};
+    auto samples = sampleSpectrum(set, cornell, SpectrumRole::Emission);
+    ASSERT_TRUE(samples);
+    const std::size_t last = set.size() - 1;
+    EXPECT_NEAR(samples->back(), (18.12 + 2 * 18.4) / 3, 1e-9);
+    EXPECT_NEAR((*samples)[last - 1], 18.12, 1e-9);
+    EXPECT_NEAR(samples->front(), (2 * 0.0 + 0.8) / 3, 1e-9);
+    EXPECT_NEAR((*samples)[1], 0.8, 1e-9);
+    // A constant table over 380..780 nm covers both end samples' half hats and part of their
+    // flat parts: every sample is the constant (it was 2 x 85 / 135 at 700 nm before).
+    auto flat = sampleSpectrum(set, SpectrumSpec{TabulatedSpectrum{{380, 780}, {2, 2}}, 1.0},
+                               SpectrumRole::Emission);
+    ASSERT_TRUE(flat);
+    for (const double v : *flat)
+        EXPECT_NEAR(v, 2, 1e-12);
+    // A table over the whole domain still conserves power: sum_k s_k w_k = its integral over
+    // 360..830 nm, (0.5 + 1.5) / 2 x 470 at a straight line from 0.5 to 1.5.
+    auto wide = sampleSpectrum(set, SpectrumSpec{TabulatedSpectrum{{360, 830}, {0.5, 1.5}}, 1.0},
+                               SpectrumRole::Emission);
+    ASSERT_TRUE(wide);
+    EXPECT_NEAR(power(set, *wide), 470, 1e-9);
+}
+
 TEST(SpectralSpectrum, ReflectanceIsPointSampled) {
     const Spectrum bump = Spectrum::tabulated({490, 500, 510}, {0, 1, 0}, true);
     const WavelengthSet set = daisyriotWavelengths();
