@@ -145,6 +145,17 @@ Material materialFromDraft(const Material& base, const MaterialDraft& draft) {
                 SpectrumSpec{BlackbodySpectrum{draft.blackbodyK}, draft.emissionScale};
             break;
         default:
+            // As loaded: the file's spectrum (or RGB emission), times the scale.
+            if (draft.emissionScale != 1) {
+                if (material.spectral.emission) {
+                    material.spectral.emission->scale *= draft.emissionScale;
+                } else if (material.emissiveRgb != std::array<double, 3>{0, 0, 0}) {
+                    // The RGB emission as the spectral member it stands for, so that a saved
+                    // --materials file carries the scale.
+                    material.spectral.emission =
+                        SpectrumSpec{RgbSpectrum{material.emissiveRgb}, draft.emissionScale};
+                }
+            }
             break;
     }
     switch (draft.fluorescenceKind) {

@@ -54,7 +54,7 @@ struct MaterialDraft {
     int emissionKind = 0;  // 0 as loaded, 1 none, 2 preset, 3 blackbody
     int emissionPreset = 0;
     float blackbodyK = 3000;
-    float emissionScale = 1;
+    float emissionScale = 1;  // multiplies the preset, the blackbody or the emission as loaded
     int fluorescenceKind = 0;  // 0 as loaded, 1 none, 2 preset, 3 parameters
     int fluorescencePreset = 0;
     float absorptionPeakNm = 365, absorptionFwhmNm = 40, absorptionScale = 0.5f;

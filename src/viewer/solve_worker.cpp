@@ -124,6 +124,7 @@ void SolveWorker::publish(const std::string& message, bool solving) {
     snapshot->patchValues = session_.patchChannels(true);
     snapshot->radiosity = session_.displayRadiosity();
     snapshot->materials = session_.scene().materials;
+    emittedPower(*snapshot);
     snapshot->iteration = iteration_;
     snapshot->change = change_;
     snapshot->solving = solving;
@@ -143,6 +144,29 @@ void SolveWorker::publish(const std::string& message, bool solving) {
     latest_ = std::move(snapshot);
     logVerbose(concat("view: published iterate ", iteration_, " in ",
                       formatNumber(timer.seconds() * 1e3, 3), " ms"));
+}
+
+void SolveWorker::emittedPower(DisplaySnapshot& snapshot) const {
+    const RadiositySystem& system = session_.system();
+    const WavelengthSet& set = session_.wavelengths();
+    const std::size_t m = set.size(), materials = snapshot.materials.size();
+    snapshot.emittedWatts.assign(materials, 0);
+    snapshot.emittedLumens.assign(materials, 0);
+    if (system.emission.size() != patches_.patchCount() * m) return;
+    const bool punctual = system.punctualEmission.size() == system.emission.size();
+    for (std::size_t p = 0; p < patches_.patchCount(); ++p) {
+        const std::size_t material = patches_.materials[p];
+        if (material >= materials) continue;
+        for (std::size_t k = 0; k < m; ++k) {
+            const double own =
+                system.emission[p * m + k] - (punctual ? system.punctualEmission[p * m + k] : 0.0);
+            const double watts = patches_.areas[p] * own * set.binWidthNm(k);
+            snapshot.emittedWatts[material] += watts;
+            // xyzWeights carry the bin width and are normalised by the integral of ybar.
+            snapshot.emittedLumens[material] +=
+                683.0 * cieYIntegral() * patches_.areas[p] * own * set.xyzWeights(k)[1];
+        }
+    }
 }
 
 void SolveWorker::solve(bool bounce) {

@@ -32,6 +32,10 @@ struct DisplaySnapshot {
     std::vector<double> radiosity;  // B shown (patches x m)
     std::vector<double> gathered;  // G of the last finished solve (patches x m); or empty
     std::vector<Material> materials;  // the session's, edits applied
+    // Per material: the power its surfaces emit themselves (not reflected punctual light),
+    // sum over its patches of area x integral of E d(lambda), in W (scene units in metres), and
+    // its luminous flux, 683 lm/W x integral of the emitted power x ybar.
+    std::vector<double> emittedWatts, emittedLumens;
     int iteration = 0;  // of the solve running or last run
     double change = 0;  // ||B^k - B^(k-1)|| / ||B^k|| of the last published iterate
     double residual = -1;  // true relative residual of the last finished solve; -1 while solving
@@ -87,6 +91,8 @@ private:
     void post(Command command);
     void run();
     void publish(const std::string& message, bool solving);
+    // DisplaySnapshot::emittedWatts and emittedLumens from the session's E.
+    void emittedPower(DisplaySnapshot& snapshot) const;
     void solve(bool bounce);
     // The edited material's first bounce (above), published; nothing without a gathered G.
     void firstBounce(std::size_t material);

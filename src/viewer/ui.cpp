@@ -137,7 +137,8 @@ void solverControls(UiState& state, const DisplaySnapshot& snapshot, SolveWorker
 }
 
 // The editor of one material; true when a control changed.
-bool materialEditor(MaterialDraft& draft) {
+// `loadedEmits`: the material as loaded emits light; `watts` and `lumens` what it emits now.
+bool materialEditor(MaterialDraft& draft, bool loadedEmits, double watts, double lumens) {
     bool changed = false;
     changed |= ImGui::Checkbox("spectral reflectance", &draft.spectralReflectance);
     if (draft.spectralReflectance) {
@@ -163,9 +164,14 @@ bool materialEditor(MaterialDraft& draft) {
                                 int(kEmissionPresets.size()));
     if (draft.emissionKind == 3)
         changed |= ImGui::SliderFloat("temperature K", &draft.blackbodyK, 1000, 12000, "%.0f");
-    if (draft.emissionKind >= 2)
+    // "as loaded" keeps the file's emission spectrum; its scale multiplies it.
+    if (draft.emissionKind >= 2 || (draft.emissionKind == 0 && loadedEmits))
         changed |= ImGui::SliderFloat("scale", &draft.emissionScale, 0, 100, "%.2f",
                                       ImGuiSliderFlags_Logarithmic);
+    if (watts > 0) {
+        ImGui::TextDisabled("emits %s W, %s lm", formatNumber(watts, 4).c_str(),
+                            formatNumber(lumens, 4).c_str());
+    }
     const char* fluorescenceKinds[] = {"as loaded", "none", "preset", "parameters"};
     changed |= ImGui::Combo("fluorescence", &draft.fluorescenceKind, fluorescenceKinds, 4);
     if (draft.fluorescenceKind == 2)
@@ -363,7 +369,12 @@ void drawPanel(UiState& state, const DisplaySnapshot& snapshot, SolveWorker& wor
             ImGui::PushID(int(k));
             if (ImGui::TreeNode(scene.materials[k].name.c_str())) {
                 const MaterialDraft before = state.drafts[k];
-                if (materialEditor(state.drafts[k])) {
+                const double watts =
+                    k < snapshot.emittedWatts.size() ? snapshot.emittedWatts[k] : 0.0;
+                const double lumens =
+                    k < snapshot.emittedLumens.size() ? snapshot.emittedLumens[k] : 0.0;
+                if (materialEditor(state.drafts[k], scene.materials[k].isEmissive(), watts,
+                                   lumens)) {
                     if (!state.gesture) state.history.record(k, state.requested[k], before);
                     state.gesture = true;
                     state.requested[k] = materialFromDraft(scene.materials[k], state.drafts[k]);
