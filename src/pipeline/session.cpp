@@ -6,6 +6,7 @@
 #include <future>
 #include <mutex>
 #include <new>
+#include <utility>
 
 #include "core/check.h"
 #include "core/log.h"
@@ -403,29 +404,70 @@ Expected<void> Session::setMaterial(std::size_t index, Material material) {
         return Error{concat("material index ", index, " out of range (the scene has ",
                             s.scene.materials.size(), " materials)")};
     }
-    Timer timer;
     const std::string name = material.name;
     std::swap(s.scene.materials[index], material);  // `material` now holds the old one
-    const auto refuse = [&](const Error& error) -> Expected<void> {
+    if (auto rebuilt = rebuildSystem(); !rebuilt) {
         std::swap(s.scene.materials[index], material);
-        return Error{concat("material '", name, "' not changed: ", error.message)};
-    };
+        return Error{concat("material '", name, "' not changed: ", rebuilt.error().message)};
+    }
+    return {};
+}
+
+Expected<void> Session::setLight(std::size_t index, PunctualLight light) {
+    State& s = *state_;
+    if (index >= s.scene.lights.size()) {
+        return Error{concat("light index ", index, " out of range (the scene has ",
+                            s.scene.lights.size(), " punctual lights)")};
+    }
+    const PunctualLight& old = s.scene.lights[index];
+    // Only where it is and how it shines changes the shadow rays; intensity, colour and
+    // spectrum scale the same irradiance factors.
+    const bool moved = light.type != old.type || light.position != old.position ||
+        light.direction != old.direction || light.range != old.range ||
+        light.innerConeRad != old.innerConeRad || light.outerConeRad != old.outerConeRad;
+    const std::string name = light.name;
+    std::swap(s.scene.lights[index], light);  // `light` now holds the old one
+    LightGeometry geometry;
+    if (moved) {
+        auto traced = punctualLightGeometry(s.patches, s.scene.lights);
+        if (!traced) {
+            std::swap(s.scene.lights[index], light);
+            return Error{concat("light '", name, "' not changed: ", traced.error().message)};
+        }
+        geometry = std::move(*traced);
+        std::swap(s.lightGeometry, geometry);
+    }
+    if (auto rebuilt = rebuildSystem(); !rebuilt) {
+        std::swap(s.scene.lights[index], light);
+        if (moved) std::swap(s.lightGeometry, geometry);
+        return Error{concat("light '", name, "' not changed: ", rebuilt.error().message)};
+    }
+    return {};
+}
+
+Expected<void> Session::rebuildSystem() {
+    State& s = *state_;
+    Timer timer;
     // An edit can add the scene's first fluorescent material or UV light: the `auto` set (and
     // the presets) then gain UV excitation samples, and the solution its new size.
     auto facts = sceneSpectralFacts(s.scene);
-    if (!facts) return refuse(facts.error());
+    if (!facts) return facts.error();
     WavelengthSet set = s.wavelengths;
     if (!s.settings.wavelengthSet &&
         (facts->hasUvLights != s.facts.hasUvLights ||
          facts->hasFluorescence != s.facts.hasFluorescence)) {
         auto remade =
             makeWavelengthSet(s.settings.wavelengths, facts->hasUvLights, facts->hasFluorescence);
-        if (!remade) return refuse(remade.error());
+        if (!remade) return remade.error();
         set = std::move(*remade);
     }
-    s.appearance = patchAppearance(s.scene, s.patches);  // the material's texture may change
+    // The material's texture may change; a refused edit gets the previous appearance back.
+    PatchAppearance previous = std::exchange(s.appearance, patchAppearance(s.scene, s.patches));
     auto system = makeSystem(s, set);
-    if (!system) return refuse(system.error());
+    if (!system) {
+        s.appearance = std::move(previous);
+        return system.error();
+    }
     s.facts = *facts;
     if (set.size() != s.wavelengths.size()) {
         s.haveSolution = false;

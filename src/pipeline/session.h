@@ -164,6 +164,9 @@ public:
     // made again from the settings' spec (`auto` gains or loses its UV samples) and a solution of
     // the old size is dropped. Errors name the material and leave the session as it was.
     Expected<void> setMaterial(std::size_t index, Material material);
+    // Replaces punctual light `index` (KHR_lights_punctual) and rebuilds E; its shadow rays are
+    // traced again only when it moved or its cone or range changed. Same rules as setMaterial.
+    Expected<void> setLight(std::size_t index, PunctualLight light);
     // Chooses a new wavelength set (E, M rebuilt; the solution is dropped: its size changes).
     Expected<void> setWavelengths(const WavelengthSpec& spec, const std::string& text);
 
@@ -217,6 +220,9 @@ public:
 
 private:
     explicit Session(std::unique_ptr<State> state);
+    // E and M (and the wavelength set, when an edit adds or removes UV lights or fluorescence)
+    // from the scene as it is now; an error leaves them as they were.
+    Expected<void> rebuildSystem();
     std::unique_ptr<State> state_;
 };
 

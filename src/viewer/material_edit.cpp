@@ -183,6 +183,29 @@ Material materialFromDraft(const Material& base, const MaterialDraft& draft) {
     return material;
 }
 
+LightDraft lightDraftOf(const PunctualLight& light) {
+    LightDraft draft;
+    draft.intensity = float(light.intensity);
+    for (std::size_t c = 0; c < 3; ++c)
+        draft.color[c] = float(light.color[c]);
+    return draft;
+}
+
+PunctualLight lightFromDraft(const PunctualLight& base, const LightDraft& draft) {
+    PunctualLight light = base;
+    light.intensity = draft.intensity;
+    for (std::size_t c = 0; c < 3; ++c)
+        light.color[c] = draft.color[c];
+    if (draft.spectrumKind == 1) {
+        const std::size_t preset =
+            std::size_t(std::clamp(draft.preset, 0, int(kEmissionPresets.size()) - 1));
+        light.spectrum = SpectrumSpec{PresetSpectrum{kEmissionPresets[preset]}, 1.0};
+    } else if (draft.spectrumKind == 2) {
+        light.spectrum = SpectrumSpec{BlackbodySpectrum{draft.blackbodyK}, 1.0};
+    }
+    return light;
+}
+
 void EditHistory::record(std::size_t index, Material material, MaterialDraft draft) {
     undo_.push_back({index, std::move(material), draft});
     redo_.clear();

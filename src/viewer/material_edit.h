@@ -111,6 +111,19 @@ private:
     std::vector<Step> undo_, redo_;
 };
 
+// The panel's controls of one punctual light (KHR_lights_punctual): its intensity (cd, or lx
+// for a directional light), its RGB colour, and its spectrum: as loaded (the file's spectral
+// emission or the colour), an illuminant preset or a blackbody.
+struct LightDraft {
+    float intensity = 1;
+    std::array<float, 3> color{1, 1, 1};
+    int spectrumKind = 0;  // 0 as loaded, 1 preset, 2 blackbody
+    int preset = 0;  // into kEmissionPresets
+    float blackbodyK = 3000;
+};
+LightDraft lightDraftOf(const PunctualLight& light);
+PunctualLight lightFromDraft(const PunctualLight& base, const LightDraft& draft);
+
 // A draft showing `material` as loaded (its RGB or spectral RGB reflectance; the control points
 // at the RGB's mean).
 MaterialDraft draftOf(const Material& material);

@@ -32,9 +32,10 @@ double relativeChange(std::span<const double> a, const std::vector<double>& b) {
 }  // namespace
 
 struct SolveWorker::Command {
-    enum class Kind { SetMaterial, Converge, Bounce, Reset, Wavelengths } kind;
+    enum class Kind { SetMaterial, SetLight, Converge, Bounce, Reset, Wavelengths } kind;
     std::size_t index = 0;
     Material material;
+    PunctualLight light;
     WavelengthSpec spec;
     std::string text;
 };
@@ -64,7 +65,8 @@ SolveWorker::~SolveWorker() {
 void SolveWorker::post(Command command) {
     {
         std::lock_guard lock(mutex_);
-        if (command.kind == Command::Kind::SetMaterial) editPostedAt_ = steadySeconds();
+        if (command.kind == Command::Kind::SetMaterial || command.kind == Command::Kind::SetLight)
+            editPostedAt_ = steadySeconds();
         queue_.push_back(std::move(command));
         cancel_.cancel();
     }
@@ -76,6 +78,12 @@ void SolveWorker::setMaterial(std::size_t index, Material material) {
     Command command{Command::Kind::SetMaterial};
     command.index = index;
     command.material = std::move(material);
+    post(std::move(command));
+}
+void SolveWorker::setLight(std::size_t index, PunctualLight light) {
+    Command command{Command::Kind::SetLight};
+    command.index = index;
+    command.light = std::move(light);
     post(std::move(command));
 }
 void SolveWorker::converge() {
@@ -124,6 +132,7 @@ void SolveWorker::publish(const std::string& message, bool solving) {
     snapshot->patchValues = session_.patchChannels(true);
     snapshot->radiosity = session_.displayRadiosity();
     snapshot->materials = session_.scene().materials;
+    snapshot->lights = session_.scene().lights;
     emittedPower(*snapshot);
     snapshot->iteration = iteration_;
     snapshot->change = change_;
@@ -205,7 +214,10 @@ void SolveWorker::firstBounce(std::size_t material) {
     std::vector<uint8_t> selected(patches_.patchCount());
     for (std::size_t p = 0; p < selected.size(); ++p)
         selected[p] = patches_.materials[p] == material;
-    if (!session_.previewBounce(selected)) return;
+    if (session_.previewBounce(selected)) waitForPreview();
+}
+
+void SolveWorker::waitForPreview() {
     publish("", true);
     std::unique_lock lock(mutex_);
     shownChanged_.wait_for(lock, std::chrono::duration<double>(kPreviewWaitSeconds),
@@ -240,6 +252,22 @@ void SolveWorker::run() {
                 }
                 message_.clear();
                 firstBounce(command.index);
+                solve(false);
+                break;
+            }
+            case Command::Kind::SetLight: {
+                auto set = session_.setLight(command.index, std::move(command.light));
+                if (!set) {
+                    ++refusedEdits_;
+                    refusedMaterial_ = SIZE_MAX;
+                    publish(concat("light edit refused: ", set.error().message), false);
+                    if (!session_.hasSolution() || !session_.solution().converged) solve(false);
+                    break;
+                }
+                message_.clear();
+                // A light reaches every patch: all of them get the preview bounce.
+                const std::vector<uint8_t> all(patches_.patchCount(), 1);
+                if (session_.previewBounce(all)) waitForPreview();
                 solve(false);
                 break;
             }

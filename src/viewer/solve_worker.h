@@ -32,6 +32,7 @@ struct DisplaySnapshot {
     std::vector<double> radiosity;  // B shown (patches x m)
     std::vector<double> gathered;  // G of the last finished solve (patches x m); or empty
     std::vector<Material> materials;  // the session's, edits applied
+    std::vector<PunctualLight> lights;  // the session's punctual lights, edits applied
     // Per material: the power its surfaces emit themselves (not reflected punctual light),
     // sum over its patches of area x integral of E d(lambda), in W (scene units in metres), and
     // its luminous flux, 683 lm/W x integral of the emitted power x ybar.
@@ -61,6 +62,8 @@ public:
     // Replaces material `index`, then solves to convergence. A refused edit (the session's reason)
     // leaves the material as it was and sets the snapshot's message.
     void setMaterial(std::size_t index, Material material);
+    // Replaces punctual light `index` (its direct light recomputed), then solves, as an edit.
+    void setLight(std::size_t index, PunctualLight light);
     // Solves to convergence (the settings' solver), warm.
     void converge();
     // One Jacobi iteration from the current B: one more light bounce (the seed's figure 3).
@@ -96,6 +99,8 @@ private:
     void solve(bool bounce);
     // The edited material's first bounce (above), published; nothing without a gathered G.
     void firstBounce(std::size_t material);
+    // Publishes the preview and waits (at most kPreviewWaitSeconds) until a frame shows it.
+    void waitForPreview();
 
     Session session_;
     const PatchMesh& patches_;

@@ -253,6 +253,43 @@ void spectralChart(const std::vector<double>& nm, const std::vector<float>& radi
     ImGui::TextDisabled("wavelength (nm); W m^-2 nm^-1");
 }
 
+// The file's punctual lights: intensity, colour and spectrum; an edit recomputes their direct
+// light (Session::setLight) and re-solves.
+void lightControls(UiState& state, const DisplaySnapshot& snapshot, SolveWorker& worker,
+                   const Scene& scene) {
+    for (std::size_t k = 0; k < scene.lights.size() && k < state.lightDrafts.size(); ++k) {
+        const PunctualLight& light = scene.lights[k];
+        const bool directional = light.type == PunctualLight::Type::Directional;
+        ImGui::PushID(int(1000 + k));
+        const std::string label =
+            concat(light.name,
+                   directional                                   ? " (directional)"
+                       : light.type == PunctualLight::Type::Spot ? " (spot)"
+                                                                 : " (point)");
+        if (ImGui::TreeNode(label.c_str())) {
+            LightDraft& draft = state.lightDrafts[k];
+            bool changed =
+                ImGui::SliderFloat(directional ? "intensity lx" : "intensity cd", &draft.intensity,
+                                   0, 1e5f, "%.3g", ImGuiSliderFlags_Logarithmic);
+            changed |= ImGui::ColorEdit3("colour", draft.color.data());
+            const char* kinds[] = {"as loaded", "preset", "blackbody"};
+            changed |= ImGui::Combo("spectrum", &draft.spectrumKind, kinds, 3);
+            if (draft.spectrumKind == 1)
+                changed |= ImGui::Combo("illuminant", &draft.preset, kEmissionPresets.data(),
+                                        int(kEmissionPresets.size()));
+            if (draft.spectrumKind == 2)
+                changed |=
+                    ImGui::SliderFloat("temperature K", &draft.blackbodyK, 1000, 12000, "%.0f");
+            if (changed) worker.setLight(k, lightFromDraft(light, draft));
+            if (k < snapshot.lights.size())
+                ImGui::TextDisabled("%s %s", formatNumber(snapshot.lights[k].intensity, 4).c_str(),
+                                    directional ? "lx" : "cd");
+            ImGui::TreePop();
+        }
+        ImGui::PopID();
+    }
+}
+
 // Undo / redo buttons (and the viewer's Ctrl+Z / Ctrl+Y requests): a step restores a
 // material and its controls as they were before (or after) one gesture.
 void editHistoryControls(UiState& state, SolveWorker& worker) {
@@ -324,6 +361,9 @@ void initUi(UiState& state, const Scene& scene, const std::string& wavelengthsTe
     for (const Material& material : scene.materials)
         state.drafts.push_back(draftOf(material));
     state.requested = scene.materials;
+    state.lightDrafts.clear();
+    for (const PunctualLight& light : scene.lights)
+        state.lightDrafts.push_back(lightDraftOf(light));
     state.materialsPath = materialsPath;
 }
 
@@ -386,6 +426,8 @@ void drawPanel(UiState& state, const DisplaySnapshot& snapshot, SolveWorker& wor
         }
         if (!ImGui::IsAnyItemActive()) state.gesture = false;
     }
+    if (!scene.lights.empty() && ImGui::CollapsingHeader("lights"))
+        lightControls(state, snapshot, worker, scene);
     if (ImGui::CollapsingHeader("picked patch", ImGuiTreeNodeFlags_DefaultOpen))
         pickedPatch(state, snapshot, scene, worker);
     ImGui::End();

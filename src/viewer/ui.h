@@ -30,6 +30,7 @@ struct UiState {
     FalseRange range;  // of the false colour in use
     std::vector<MaterialDraft> drafts;  // per material; filled by initUi
     std::vector<Material> requested;  // per material: what the panel last asked the worker for
+    std::vector<LightDraft> lightDrafts;  // per punctual light
     EditHistory history;
     bool gesture = false;  // an edit gesture (a drag) is under way: one undo step
     bool undoRequest = false, redoRequest = false;  // Ctrl+Z, Ctrl+Y (set by the viewer)

@@ -108,6 +108,69 @@ TEST(Session, MaterialEditResolvesWithoutRebuildingF) {
     EXPECT_LT(diff / norm, 1e-5);  // both within the 1e-6 residual of the same solution
 }
 
+// A punctual light edited in place: twice the intensity is twice its direct light in E (the
+// shadow rays are not traced again), a moved light is traced again, and the warm solve matches
+// a session opened with the edited light.
+TEST(Session, LightEditRecomputesItsDirectLight) {
+    Scene scene = verify::unitRoomScene(2, "D65");
+    PunctualLight lamp;
+    lamp.name = "lamp";
+    lamp.position = Vec3d{0.5, 0.7, 0.5};
+    lamp.intensity = 0.5;
+    scene.lights.push_back(lamp);
+    SessionSettings settings;
+    settings.backend = "cpu";
+    settings.subdivideMaxEdge = 0;
+    settings.formFactors.progress = false;
+    settings.logStages = false;
+    settings.solver.tolerance = 1e-8;
+    auto session = Session::fromScene(scene, settings);
+    ASSERT_TRUE(session) << session.error().message;
+    ASSERT_TRUE(session->solve());
+    const std::vector<double> before = session->system().punctualEmission;
+    ASSERT_FALSE(before.empty());
+    PunctualLight brighter = lamp;
+    brighter.intensity = 1.0;
+    ASSERT_TRUE(session->setLight(0, brighter));
+    const std::vector<double>& after = session->system().punctualEmission;
+    ASSERT_EQ(after.size(), before.size());
+    for (std::size_t k = 0; k < after.size(); ++k)
+        EXPECT_NEAR(after[k], 2 * before[k], 1e-12 * (1 + before[k])) << k;
+    ASSERT_TRUE(session->solve());
+
+    Scene edited = scene;
+    edited.lights[0] = brighter;
+    auto fresh = Session::fromScene(edited, settings);
+    ASSERT_TRUE(fresh);
+    ASSERT_TRUE(fresh->solve());
+    const auto& a = session->solution().radiosity;
+    const auto& b = fresh->solution().radiosity;
+    ASSERT_EQ(a.size(), b.size());
+    double diff = 0, norm = 0;
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        diff += std::abs(a[k] - b[k]);
+        norm += std::abs(b[k]);
+    }
+    EXPECT_LT(diff / norm, 1e-6);
+
+    // Moved towards the floor: the floor's share of the direct light grows.
+    PunctualLight lower = brighter;
+    lower.position = Vec3d{0.5, 0.2, 0.5};
+    ASSERT_TRUE(session->setLight(0, lower));
+    double floorBefore = 0, floorAfter = 0;
+    const std::size_t m = session->wavelengths().size();
+    const PatchMesh& patches = session->patches();
+    for (std::size_t p = 0; p < patches.patchCount(); ++p) {
+        if (patches.normals[p].y < 0.5) continue;  // the floor faces +y
+        for (std::size_t k = 0; k < m; ++k) {
+            floorBefore += 2 * before[p * m + k];
+            floorAfter += session->system().punctualEmission[p * m + k];
+        }
+    }
+    EXPECT_GT(floorAfter, 2 * floorBefore);
+    EXPECT_FALSE(session->setLight(7, lower));
+}
+
 // Warm start: after a small edit, starting from the last B takes fewer iterations than from E,
 // for every solver.
 TEST(Session, WarmStartConvergesInFewerIterationsThanCold) {
