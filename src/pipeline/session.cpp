@@ -705,12 +705,12 @@ bool Session::previewBounce(std::span<const uint8_t> selected) {
     return true;
 }
 
-void Session::setSolution(std::vector<double> radiosity) {
+void Session::setSolution(std::vector<double> radiosity, bool converged) {
     State& s = *state_;
     DAISY_CHECK_OP(radiosity.size(), ==, s.system.emission.size());
     s.solution = {};
     s.solution.radiosity = std::move(radiosity);
-    s.solution.converged = true;
+    s.solution.converged = converged;
     s.haveSolution = true;
 }
 

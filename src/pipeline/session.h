@@ -207,8 +207,9 @@ public:
     SolutionCacheReport loadCachedSolution();
     // Sets B = E (the viewer's "reset to emission"; the next warm start starts there).
     void resetToEmission();
-    // Uses `radiosity` (n x m) as the solution (the bench's analytic furnace answer).
-    void setSolution(std::vector<double> radiosity);
+    // Uses `radiosity` (n x m) as the solution (the bench's analytic furnace answer; with
+    // `converged` false, a picture to show and start the next solve from, not an answer).
+    void setSolution(std::vector<double> radiosity, bool converged = true);
 
     // ---- the first bounce of an edit ----
     // Replaces the solution's radiosity of the patches with selected[i] != 0 by one bounce of

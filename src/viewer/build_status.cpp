@@ -39,10 +39,11 @@ void drawBuildStatus(const BuildProgress& progress, const DisplaySnapshot& snaps
                                snapshot.error.c_str());
             ImGui::PopStyleColor();
         } else {
-            ImGui::TextUnformatted(snapshot.fromCache
-                                       ? "Converged solution from the cache; making the view "
-                                         "factors for edits"
-                                       : "Emission shown; making the view factors");
+            ImGui::TextUnformatted(
+                snapshot.fromCache         ? "Converged solution from the cache; making the view "
+                                             "factors for edits"
+                    : snapshot.directLight ? "Direct light shown; making the view factors"
+                                           : "Emission shown; making the view factors");
             const std::string label = buildStatusLine(progress, snapshot);
             ImGui::ProgressBar(float(progress.fraction), ImVec2(-1, 0), label.c_str());
             ImGui::Text("%s elapsed", formatDuration(progress.elapsedSeconds).c_str());

@@ -9,6 +9,7 @@
 #include "core/log.h"
 #include "core/strings.h"
 #include "core/timer.h"
+#include "image/final_gather.h"
 
 namespace daisy::viewer {
 namespace {
@@ -155,6 +156,7 @@ void SolveWorker::publish(const std::string& message, bool solving) {
     snapshot->refusedMaterial = refusedMaterial_;
     snapshot->building = building_;
     snapshot->fromCache = fromCache_;
+    snapshot->directLight = directLight_;
     snapshot->error = error_;
     if (session_.hasSolution() && !solving) {
         const SolverResult& result = session_.solution();
@@ -180,6 +182,7 @@ void SolveWorker::solve(bool bounce) {
         request.kind = SolverKind::Jacobi;
         request.maxIterations = 1;
     }
+    directLight_ = false;
     std::vector<double> previous;
     if (session_.hasSolution()) previous = session_.solution().radiosity;
     double lastPublish = -1;
@@ -242,6 +245,7 @@ bool SolveWorker::open() {
         logVerbose(concat("view: the converged solution from the cache published in ",
                           formatNumber(timer.seconds() * 1e3, 3), " ms"));
     }
+    if (!session_.hasFormFactors() && !session_.hasSolution()) showDirectLight();
     if (!session_.hasFormFactors()) {
         if (waitForFirstFrame_) {
             std::unique_lock lock(mutex_);
@@ -293,6 +297,35 @@ bool SolveWorker::open() {
     }
     if (!session_.hasSolution() || !session_.solution().converged) solve(false);
     return true;
+}
+
+void SolveWorker::showDirectLight() {
+    const Timer timer;
+    const RadiositySystem& system = session_.system();
+    DirectLightSettings direct;
+    direct.shadowRays = kPreviewShadowRays;
+    auto irradiance =
+        patchDirectIrradiance(session_.scene(), patches_, system, direct, &stopBuild_);
+    if (!irradiance) {
+        logWarning(
+            concat("view: no direct light before the view factors: ", irradiance.error().message));
+        return;
+    }
+    if (stopBuild_.cancelled()) return;
+    std::vector<double> radiosity = system.emission;
+    const std::size_t m = system.wavelengthCount;
+    std::vector<double> reflected(m);
+    for (std::size_t i = 0; i < system.patchCount; ++i) {
+        applyOperator(system.operators[system.patchOperator[i]], irradiance->data() + i * m,
+                      reflected.data());
+        for (std::size_t k = 0; k < m; ++k)
+            radiosity[i * m + k] += reflected[k];
+    }
+    session_.setSolution(std::move(radiosity), false);
+    directLight_ = true;
+    publish("", false);
+    logVerbose(concat("view: the emitters' direct light in ",
+                      formatNumber(timer.seconds() * 1e3, 3), " ms"));
 }
 
 void SolveWorker::run() {

@@ -803,9 +803,10 @@ void Viewer::logOpening(bool drawn) {
         firstFrameLogged_ = true;
         const std::string status = buildStatusLine(worker_.buildProgress(), *snapshot);
         logInfo(concat("view: first frame ", formatNumber(ms, 3), " ms after the start, showing ",
-                       snapshot->fromCache       ? "the converged solution from the cache"
-                           : snapshot->converged ? "the converged solution"
-                                                 : "the emission",
+                       snapshot->fromCache         ? "the converged solution from the cache"
+                           : snapshot->converged   ? "the converged solution"
+                           : snapshot->directLight ? "the emitters' direct light"
+                                                   : "the emission",
                        snapshot->building ? " while the view factors are made" : "",
                        status.empty() ? "" : concat(" (", status, ")")));
     }
