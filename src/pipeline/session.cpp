@@ -561,10 +561,10 @@ Expected<SolverResult> Session::solve(const SolveRequest& request) {
     if (!exposure) return Error{concat(s.scenePath(), ": ", exposure.error().message)};
     const Transport& transport = *s.transport;
     updateExposed(s, **exposure);
-    const bool cached = request.useSolutionCache && s.settings.cacheDirectory &&
-        !request.maxIterations && !request.kind;
+    const bool cached = (request.useSolutionCache || request.storeSolution) &&
+        s.settings.cacheDirectory && !request.maxIterations && !request.kind;
     const SolutionKey key = cached ? solutionKey() : SolutionKey{};
-    if (cached && adoptCachedSolution(s, key).hit) {
+    if (cached && request.useSolutionCache && adoptCachedSolution(s, key).hit) {
         s.timings.solveSeconds = timer.seconds();
         return s.solution;
     }

@@ -87,10 +87,13 @@ struct SolveRequest {
     std::function<void(int iteration, std::span<const double> radiosity)> onIteration;
     std::optional<int> maxIterations;  // overrides the settings' (the viewer's bounce stepping)
     std::optional<SolverKind> kind;  // overrides the settings' solver
-    // Look up a converged solution for these settings in the disk cache first (then no solve:
-    // pipeline/solution_cache.h), and store a converged result there in the background. Ignored
-    // without a cache folder and when maxIterations or kind is given.
+    // The disk cache of converged solutions (pipeline/solution_cache.h), both ignored without a
+    // cache folder and when maxIterations or kind is given. useSolutionCache: look up a
+    // converged solution for these settings first (then no solve), and store a converged result
+    // in the background. storeSolution: only the store (the viewer's edits, whose re-solves are
+    // what it shows and measures).
     bool useSolutionCache = false;
+    bool storeSolution = false;
 };
 
 // A lookup of the disk cache's converged solutions (Session::loadCachedSolution).
@@ -188,7 +191,8 @@ public:
     // request.maxIterations bounds the solve), not an error; cancellation returns the last
     // iterate with cancelled = true. With request.useSolutionCache, the converged solution the
     // disk cache holds for these settings is adopted instead (no iterations, changeHistory
-    // empty), and a converged result is stored there in the background.
+    // empty); with it or request.storeSolution a converged result is stored there in the
+    // background.
     Expected<SolverResult> solve(const SolveRequest& request = {});
     // The exposed share of every patch (radiosity/patch_exposure.h), probed on first use (rays).
     Expected<const PatchExposure*> exposure() const;

@@ -176,8 +176,9 @@ void SolveWorker::solve(bool bounce) {
     SolveRequest request;
     request.warmStart = true;
     request.cancel = &cancel_;
-    // A converged solution is stored beside F, so the next open shows it at once.
-    request.useSolutionCache = !bounce;
+    // A converged solution is stored beside F, so the next open shows it at once (the open
+    // looks it up; an edit's re-solve always runs).
+    request.storeSolution = !bounce;
     if (bounce) {
         request.kind = SolverKind::Jacobi;
         request.maxIterations = 1;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "pipeline/session.h"
+#include "session_util.h"
 #include "test_util.h"
 #include "verify/scenes.h"
 
@@ -21,13 +22,7 @@ namespace {
 // The unit room, 6 x 3 x 3 x 2 = 108 patches, the ceiling emitting D65, face 0 the material
 // edited below; the cpu backend and a cache in `cache`.
 SessionSettings roomSettings(const std::filesystem::path& cache) {
-    SessionSettings settings;
-    settings.backend = "cpu";
-    settings.subdivideMaxEdge = 0;
-    settings.formFactors.progress = false;
-    settings.logStages = false;
-    settings.wavelengths.preset = "daisyriot";
-    settings.solver.tolerance = 1e-8;
+    SessionSettings settings = test::unitRoomSettings();
     settings.cacheDirectory = cache;
     return settings;
 }

@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "pipeline/solution_cache.h"
+#include "session_util.h"
 #include "test_util.h"
 #include "verify/scenes.h"
 
@@ -27,13 +28,7 @@ Scene room() {
 }
 
 Session solvedRoom(const std::vector<std::pair<std::size_t, Material>>& edits = {}) {
-    SessionSettings settings;
-    settings.backend = "cpu";
-    settings.subdivideMaxEdge = 0;
-    settings.formFactors.progress = false;
-    settings.logStages = false;
-    settings.wavelengths.preset = "daisyriot";
-    settings.solver.tolerance = 1e-8;
+    SessionSettings settings = test::unitRoomSettings();
     auto session = Session::fromScene(room(), settings);
     EXPECT_TRUE(session.ok()) << session.error().message;
     for (const auto& [index, material] : edits)
@@ -212,13 +207,7 @@ TEST(SolveWorker, ARefusedEditStillLetsTheAcceptedEditConverge) {
 // The window opens before F exists: the worker's first snapshot is B = E (building), then it
 // makes F on its thread and converges to what the session solving directly gives.
 TEST(SolveWorker, ShowsTheEmissionWhileFIsMadeThenConverges) {
-    SessionSettings settings;
-    settings.backend = "cpu";
-    settings.subdivideMaxEdge = 0;
-    settings.formFactors.progress = false;
-    settings.logStages = false;
-    settings.wavelengths.preset = "daisyriot";
-    settings.solver.tolerance = 1e-8;
+    SessionSettings settings = test::unitRoomSettings();
     auto session = Session::fromScene(room(), settings);
     ASSERT_TRUE(session.ok()) << session.error().message;
     const std::vector<double> emission = session->system().emission;
@@ -246,12 +235,7 @@ TEST(SolveWorker, ShowsTheEmissionWhileFIsMadeThenConverges) {
 // Closing the window while F is being made cancels the build (core/cancel.h): the worker's
 // destructor returns within a second, long before the build would have ended.
 TEST(SolveWorker, ClosingWhileFIsMadeCancelsTheBuild) {
-    SessionSettings settings;
-    settings.backend = "cpu";
-    settings.subdivideMaxEdge = 0;
-    settings.formFactors.progress = false;
-    settings.logStages = false;
-    settings.wavelengths.preset = "daisyriot";
+    SessionSettings settings = test::unitRoomSettings();
     // 6 faces x 24^2 x 2 = 6,912 patches: F takes several seconds on any machine.
     auto session = Session::fromScene(verify::unitRoomScene(24, "D65"), settings);
     ASSERT_TRUE(session.ok()) << session.error().message;
@@ -278,13 +262,7 @@ TEST(SolveWorker, ClosingWhileFIsMadeCancelsTheBuild) {
 // A warm open: the converged solution the disk cache holds for these materials is shown as it
 // was stored, and nothing is solved (the worker's iteration count is the stored solve's).
 TEST(SolveWorker, AWarmOpenShowsTheCachedSolutionWithoutSolving) {
-    SessionSettings settings;
-    settings.backend = "cpu";
-    settings.subdivideMaxEdge = 0;
-    settings.formFactors.progress = false;
-    settings.logStages = false;
-    settings.wavelengths.preset = "daisyriot";
-    settings.solver.tolerance = 1e-8;
+    SessionSettings settings = test::unitRoomSettings();
     settings.cacheDirectory = test::testTempDir() / "cache";
     auto cold = Session::fromScene(room(), settings);
     ASSERT_TRUE(cold.ok());
