@@ -12,6 +12,7 @@
 #include "core/log.h"
 #include "core/strings.h"
 #include "pipeline/formfactor_cache.h"
+#include "pipeline/solution_cache.h"
 
 namespace daisy::app {
 namespace {
@@ -30,6 +31,7 @@ std::string formatLastUse(int64_t unixNs) {
 std::string summaryOf(const CacheEntry& entry) {
     if (!entry.headerValid) return "damaged header (rejected and removed when next read)";
     if (std::string text = FormFactorCache::describe(entry.header); !text.empty()) return text;
+    if (std::string text = SolutionCache::describe(entry.header); !text.empty()) return text;
     std::string magic;
     for (char c : entry.header.magic)
         if (c >= ' ' && c <= '~') magic += c;
@@ -108,7 +110,8 @@ int finish(const CachePruneReport& report, const char* verb) {
 
 CLI::App* addCacheOptions(CLI::App& app, CacheOptions& options) {
     auto* command = app.add_subcommand(
-        "cache", "List, clear or prune the form-factor cache (least recently used first)");
+        "cache",
+        "List, clear or prune the disk cache of F and solutions (least recently used first)");
     command
         ->add_option("ACTION", options.action,
                      "list (entries, sizes, last use), clear (remove every entry) or prune "

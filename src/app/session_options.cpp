@@ -50,6 +50,7 @@ namespace daisy::app {
 SolveRequest interruptibleSolve() {
     SolveRequest request;
     request.cancel = &interruptToken();
+    request.useSolutionCache = true;
     return request;
 }
 

@@ -14,7 +14,8 @@ SessionSettings sessionSettingsFrom(const CommonOptions& options, PatchSizeDefau
 Expected<Session> openSession(const CommonOptions& options, PatchSizeDefault defaultSize,
                               const std::function<Expected<void>(const Scene&)>& afterLoad = {});
 
-// A solve that SIGINT / SIGTERM cancel (core/interrupt.h).
+// A solve that SIGINT / SIGTERM cancel (core/interrupt.h) and that takes a converged solution
+// from the disk cache when it holds one (pipeline/solution_cache.h).
 SolveRequest interruptibleSolve();
 
 // F (memory, the disk cache or the backend), then an interruptible solve, as render and view

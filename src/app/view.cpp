@@ -1,6 +1,7 @@
-// `daisy view SCENE` (docs/viewer.md): the session (automatic patch size, F from the
-// cache or a backend, the solve), then the viewer (src/viewer/). Options that depend on the scene
-// (--camera, --edit) fail before the view factors.
+// `daisy view SCENE` (docs/viewer.md): the checks of the options and the machine, the session
+// (scene, automatic patch size, E and M), then the viewer (src/viewer/), which opens its window
+// at once and makes F (cache or backend) and the solution on its solve worker. Options that
+// depend on the scene (--camera, --edit) fail before the view factors.
 #include <cstdio>
 
 #include "app/commands.h"
@@ -9,8 +10,10 @@
 #include "core/interrupt.h"
 #include "core/log.h"
 #include "core/strings.h"
+#include "core/timer.h"
 #include "image/camera.h"
 #include "image/exposure.h"
+#include "pipeline/backend_registry.h"
 
 #if DAISY_HAVE_VIEWER
 #include "viewer/display_values.h"
@@ -23,6 +26,7 @@ namespace {
 
 int runView(const CommonOptions& options, const ViewOptions& view) {
 #if DAISY_HAVE_VIEWER
+    const Clock::time_point started = Clock::now();
     auto exposure = parseExposure(view.exposure);
     if (!exposure) {
         logError(concat("--exposure: ", exposure.error().message));
@@ -57,16 +61,27 @@ int runView(const CommonOptions& options, const ViewOptions& view) {
         logError(unavailable.why);
         return unavailable.status;
     }
+    logVerbose(concat("view: display and Vulkan device checked ",
+                      formatNumber(secondsSince(started) * 1e3, 3), " ms after the start"));
     // An unwritable --screenshot fails now, not after the frames (core/atomic_file.h).
     auto screenshot = reserveOutputs({view.screenshotPath, view.saveMaterialsPath});
     if (!screenshot) {
         logError(screenshot.error().message);
         return 2;
     }
+    // An explicit --backend that cannot run here fails now, not in the window.
+    if (options.backend != "auto") {
+        if (auto runs = checkBackendRunsHere(options.backend); !runs) {
+            logError(concat("--backend ", options.backend, ": ", runs.error().message));
+            return 2;
+        }
+    }
     auto session = openSession(options, PatchSizeDefault::Automatic, checkScene);
     if (!session) return 2;
-    if (!buildAndSolve(*session)) return 2;
+    logVerbose(concat("view: scene, patches, E and M ready ",
+                      formatNumber(secondsSince(started) * 1e3, 3), " ms after the start"));
     viewer::ViewerOptions settings;
+    settings.startedAt = started;
     settings.device = options.device;
     settings.camera = view.camera;
     settings.width = view.width;

@@ -1,6 +1,7 @@
 #include "image/final_gather.h"
 
 #include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -422,6 +423,41 @@ std::vector<double> radiosityWithoutDirectLight(const RadiositySystem& system,
             out[i * m + o] -= reflected[o];
     }
     return out;
+}
+
+Expected<std::vector<double>> patchDirectIrradiance(const Scene& scene, const PatchMesh& patches,
+                                                    const RadiositySystem& system,
+                                                    const DirectLightSettings& direct,
+                                                    const CancelToken* cancel) {
+    const std::size_t n = patches.patchCount(), m = system.wavelengthCount;
+    std::vector<double> irradiance(n * m, 0.0);
+    const std::vector<double> own = ownEmission(system);  // the lights point into it
+    const std::vector<Light> lights = lightsOf(scene, patches, system, own);
+    if (lights.empty()) return irradiance;
+    auto caster = makeRayCaster(patches, {.packetMode = PacketMode::Packet16, .robust = true});
+    if (!caster) return withContext(caster.error(), "direct light");
+    const bool exactWeights = lights.size() <= kExactLightLimit;
+    const PatchLights seen = exactWeights ? lightsSeenByPatches(patches, lights) : PatchLights{};
+    std::vector<const double*> spectra;
+    for (const Light& light : lights) {
+        if (light.spectrum >= spectra.size()) spectra.resize(light.spectrum + 1, nullptr);
+        spectra[light.spectrum] = light.emission;
+    }
+    const int k = std::max(1, direct.shadowRays);
+    const uint32_t seed = shared::pcgHash(direct.seed ^ 0x68e31da4u);
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, uint32_t(n), 64), [&](const auto& range) {
+        LightSampler sampler(lights, seen, spectra, m, exactWeights, **caster, k);
+        for (uint32_t p = range.begin(); p != range.end(); ++p) {
+            if (isCancelled(cancel)) return;
+            if (system.operators[system.patchOperator[p]].isZero) continue;
+            const uint32_t patchSeed = shared::pcgHash(seed ^ shared::pcgHash(p));
+            sampler.beginPixel();
+            sampler.addIrradiance(toVec3(patches.centroids[p]), toVec3(patches.normals[p]), p, 0, k,
+                                  k, patchSeed, shared::pcgHash(patchSeed ^ 0x9e3779b9u),
+                                  std::span<double>(irradiance.data() + std::size_t(p) * m, m));
+        }
+    });
+    return irradiance;
 }
 
 Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,

@@ -42,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cancel.h"
 #include "core/expected.h"
 #include "geometry/patch_mesh.h"
 #include "image/image.h"
@@ -67,6 +68,14 @@ struct DirectLightSettings {
 std::vector<double> radiosityWithoutDirectLight(const RadiositySystem& system,
                                                 const Transport& transport,
                                                 std::span<const double> radiosity);
+
+// H at each patch's centroid (n x m, the system's layout; 0 for patches that reflect nothing):
+// the estimate above with `direct.shadowRays` segments a patch, without F. The viewer's picture
+// B = E + M H while F is being made. Stops early (the rest 0) when `cancel` is cancelled.
+Expected<std::vector<double>> patchDirectIrradiance(const Scene& scene, const PatchMesh& patches,
+                                                    const RadiositySystem& system,
+                                                    const DirectLightSettings& direct,
+                                                    const CancelToken* cancel = nullptr);
 
 // The direct term M_i H(x) / pi per pixel, on the renderer's sample positions (stratum centres,
 // image/pixel_samples.h, per pixel settings.pixelSides when given: edge_sampling.h) and box

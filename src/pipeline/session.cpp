@@ -3,6 +3,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <chrono>
 #include <future>
 #include <mutex>
 #include <new>
@@ -39,16 +40,19 @@ struct Session::State {
     std::shared_ptr<const Transport> transport;  // null until built or read
     uint64_t builds = 0;
     std::string resolvedBackend;  // settings.backend with `auto` resolved, on first need
+    std::optional<FormFactorKey> formFactorKey;  // computed on first need (the patches are fixed)
 
     bool haveSolution = false;
     SolverResult solution;
     std::vector<double> gathered;  // G of the last finished solve (n x m), or empty
     mutable std::optional<PatchExposure> exposure;  // probed on first use (patches are fixed)
     ExposedSystem exposed;  // of the last solve
+    bool exposedReady = false;  // `exposed` derived for the transport in hand
 
     // The store of a freshly built F into the disk cache, running off the critical path (it
     // holds its own reference to the transport).
     std::future<std::string> cacheWrite;
+    std::future<std::string> solutionWrite;  // the same for a converged B
 
     std::string scenePath() const { return settings.scenePath; }
     void stageLine(const std::string& line) const {
@@ -61,12 +65,88 @@ struct Session::State {
 
 namespace {
 
+// The patches' exposed parts (radiosity/exposed_system.h) for the system and transport in hand.
+void updateExposed(Session::State& s, const PatchExposure& exposure) {
+    s.exposed = exposedSystem(s.system, exposure.fraction, s.transport->rowSums());
+    s.exposedReady = true;
+}
+
+// The wait for one background store: its warning, logged; "" when none is pending or it worked.
+std::string finishStore(std::future<std::string>& store) {
+    if (!store.valid()) return {};
+    std::string warning = store.get();
+    if (!warning.empty()) logWarning(warning);
+    return warning;
+}
+
 // Held by a background cache store for its whole write, and by a cache lookup: a lookup in one
 // session waits for another session's store of (possibly) the same entry, and two stores in one
 // process never share the temporary file (core/atomic_file.h names it by the process id).
 std::mutex& cacheStoreMutex() {
     static std::mutex mutex;
     return mutex;
+}
+
+// The same for the stores of solutions (small and quick). Their lookups do not wait: an entry
+// is replaced atomically, and a solve is cheaper than waiting behind an F store.
+std::mutex& solutionStoreMutex() {
+    static std::mutex mutex;
+    return mutex;
+}
+
+// Adopts the converged solution the cache holds under `key`, when it does.
+SolutionCacheReport adoptCachedSolution(Session::State& s, const SolutionKey& key) {
+    SolutionCacheReport report;
+    if (!s.settings.cacheDirectory) return report;
+    const Timer timer;
+    const SolutionCache cache(*s.settings.cacheDirectory, s.settings.cacheSizeBytes);
+    report.path = cache.entryPath(key).string();
+    SolutionLookup lookup = cache.load(key, s.system.patchCount, s.system.wavelengthCount);
+    if (lookup.status == SolutionLookup::Status::Rejected) {
+        report.warning = lookup.message;
+        logWarning(lookup.message);
+    }
+    if (lookup.status != SolutionLookup::Status::Hit) return report;
+    s.solution = {};
+    s.solution.radiosity = std::move(lookup.radiosity);
+    s.solution.gathered = lookup.gathered;
+    s.solution.iterations = lookup.stats.iterations;
+    s.solution.residual = lookup.stats.residual;
+    s.solution.converged = true;
+    s.solution.seconds = lookup.stats.solveSeconds;
+    s.haveSolution = true;
+    s.gathered = std::move(lookup.gathered);
+    report.hit = true;
+    report.seconds = timer.seconds();
+    s.stageLine(concat("solve: the converged solution from the cache ", report.path, " in ",
+                       formatDuration(report.seconds), " (", s.solution.iterations,
+                       " iterations, residual ", formatNumber(s.solution.residual, 3),
+                       " when solved)"));
+    return report;
+}
+
+// Stores the session's converged solution under `key` on a background task. One store at a
+// time: while the last is still being written (behind an F store), this one is skipped.
+void storeSolution(Session::State& s, const SolutionKey& key) {
+    if (s.solutionWrite.valid()) {
+        if (s.solutionWrite.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+            s.stageDetail("solve: B not cached (the last store is still being written)");
+            return;
+        }
+        finishStore(s.solutionWrite);
+    }
+    SolutionStats stats;
+    stats.iterations = s.solution.iterations;
+    stats.residual = s.solution.residual;
+    stats.solveSeconds = s.solution.seconds;
+    s.solutionWrite =
+        std::async(std::launch::async,
+                   [cache = SolutionCache(*s.settings.cacheDirectory, s.settings.cacheSizeBytes),
+                    key, n = uint64_t{s.system.patchCount}, m = uint64_t{s.system.wavelengthCount},
+                    radiosity = s.solution.radiosity, gathered = s.gathered, stats] {
+                       const std::lock_guard lock(solutionStoreMutex());
+                       return cache.store(key, n, m, radiosity, gathered, stats);
+                   });
 }
 
 // The form-factor settings as the backends take them: the session's memory limit applies.
@@ -243,9 +323,11 @@ MatrixEstimate Session::matrixEstimate() const {
 
 FormFactorKey Session::formFactorKey() const {
     State& s = *state_;
+    if (s.formFactorKey) return *s.formFactorKey;
     if (s.resolvedBackend.empty()) s.resolvedBackend = resolveBackendName(s.settings.backend);
-    return daisy::formFactorKey(s.patches, s.settings.formFactors,
-                                backendFamily(s.resolvedBackend));
+    s.formFactorKey =
+        daisy::formFactorKey(s.patches, s.settings.formFactors, backendFamily(s.resolvedBackend));
+    return *s.formFactorKey;
 }
 
 bool Session::formFactorsCached() const {
@@ -385,15 +467,16 @@ uint64_t Session::formFactorBuildCount() const {
 
 std::string Session::finishCacheWrite() const {
     State& s = *state_;
-    if (!s.cacheWrite.valid()) return {};
-    std::string warning = s.cacheWrite.get();
-    if (!warning.empty()) logWarning(warning);
-    return warning;
+    std::string warnings = finishStore(s.cacheWrite);
+    if (std::string b = finishStore(s.solutionWrite); !b.empty())
+        warnings += warnings.empty() ? b : "\n" + b;
+    return warnings;
 }
 
 void Session::setFormFactors(SparseMatrix matrix) {
     DAISY_CHECK_OP(matrix.size, ==, state_->patches.patchCount());
     state_->transport = std::make_shared<MatrixTransport>(std::move(matrix));
+    state_->exposedReady = false;
 }
 
 // ---- edits ----
@@ -519,7 +602,14 @@ Expected<SolverResult> Session::solve(const SolveRequest& request) {
     auto exposure = this->exposure();
     if (!exposure) return Error{concat(s.scenePath(), ": ", exposure.error().message)};
     const Transport& transport = *s.transport;
-    s.exposed = exposedSystem(s.system, (*exposure)->fraction, transport.rowSums());
+    updateExposed(s, **exposure);
+    const bool cached = (request.useSolutionCache || request.storeSolution) &&
+        s.settings.cacheDirectory && !request.maxIterations && !request.kind;
+    const SolutionKey key = cached ? solutionKey() : SolutionKey{};
+    if (cached && request.useSolutionCache && adoptCachedSolution(s, key).hit) {
+        s.timings.solveSeconds = timer.seconds();
+        return s.solution;
+    }
     const RadiositySystem& system = s.exposed.changed ? s.exposed.system : s.system;
     std::vector<double> start;
     if (warm) {
@@ -554,7 +644,26 @@ Expected<SolverResult> Session::solve(const SolveRequest& request) {
     s.haveSolution = true;
     // A cancelled solve's G belongs to no finished iterate: the last finished one's stays.
     if (!solved->cancelled && solved->gathered.size() == size) s.gathered = solved->gathered;
+    if (cached && solved->converged && !solved->cancelled) storeSolution(s, key);
     return solved;
+}
+
+SolutionKey Session::solutionKey() const {
+    return daisy::solutionKey(formFactorKey(), state_->system, state_->settings.solver);
+}
+
+SolutionCacheReport Session::loadCachedSolution() {
+    return adoptCachedSolution(*state_, solutionKey());
+}
+
+Expected<void> Session::prepareExposedParts() {
+    State& s = *state_;
+    DAISY_CHECK(s.transport);
+    if (s.exposedReady) return {};
+    auto exposure = this->exposure();
+    if (!exposure) return Error{concat(s.scenePath(), ": ", exposure.error().message)};
+    updateExposed(s, **exposure);
+    return {};
 }
 
 Expected<const PatchExposure*> Session::exposure() const {
@@ -611,7 +720,7 @@ bool Session::previewBounce(std::span<const uint8_t> selected) {
     State& s = *state_;
     const std::size_t n = s.system.patchCount, m = s.system.wavelengthCount;
     DAISY_CHECK_OP(selected.size(), ==, n);
-    if (!s.transport || s.gathered.size() != n * m || !s.exposure) return false;
+    if (!s.transport || s.gathered.size() != n * m || !prepareExposedParts()) return false;
     std::vector<double> radiosity = displayRadiosity();
     if (radiosity.size() != n * m) return false;
     // The last solve's exposed parts (radiosity/exposed_system.h): phi_i and the scale s_i of
@@ -638,12 +747,12 @@ bool Session::previewBounce(std::span<const uint8_t> selected) {
     return true;
 }
 
-void Session::setSolution(std::vector<double> radiosity) {
+void Session::setSolution(std::vector<double> radiosity, bool converged) {
     State& s = *state_;
     DAISY_CHECK_OP(radiosity.size(), ==, s.system.emission.size());
     s.solution = {};
     s.solution.radiosity = std::move(radiosity);
-    s.solution.converged = true;
+    s.solution.converged = converged;
     s.haveSolution = true;
 }
 

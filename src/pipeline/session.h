@@ -24,6 +24,7 @@
 #include "geometry/patch_mesh.h"
 #include "pipeline/channel_layout.h"
 #include "pipeline/formfactor_cache.h"
+#include "pipeline/solution_cache.h"
 #include "radiosity/energy.h"
 #include "radiosity/form_factors.h"
 #include "radiosity/matrix_estimate.h"
@@ -86,6 +87,21 @@ struct SolveRequest {
     std::function<void(int iteration, std::span<const double> radiosity)> onIteration;
     std::optional<int> maxIterations;  // overrides the settings' (the viewer's bounce stepping)
     std::optional<SolverKind> kind;  // overrides the settings' solver
+    // The disk cache of converged solutions (pipeline/solution_cache.h), both ignored without a
+    // cache folder and when maxIterations or kind is given. useSolutionCache: look up a
+    // converged solution for these settings first (then no solve), and store a converged result
+    // in the background. storeSolution: only the store (the viewer's edits, whose re-solves are
+    // what it shows and measures).
+    bool useSolutionCache = false;
+    bool storeSolution = false;
+};
+
+// A lookup of the disk cache's converged solutions (Session::loadCachedSolution).
+struct SolutionCacheReport {
+    bool hit = false;
+    std::string path;  // the entry read; empty without a cache
+    std::string warning;  // a rejected entry, one line (already logged)
+    double seconds = 0;  // the key and the read
 };
 
 // Wall time of each stage, seconds (0 for a stage not run).
@@ -142,9 +158,9 @@ public:
     Expected<FormFactorReport> buildFormFactorsUncached(const std::string& backend,
                                                         const CancelToken* cancel = nullptr,
                                                         const ProgressObserver& onProgress = {});
-    // Waits for the background store of F started by buildFormFactors (no work when none is
-    // pending) and returns its warning ("F not cached: ..."), which it also logs; "" on success.
-    // Called by formFactorsCached, setFormFactors and the destructor.
+    // Waits for the background stores of F and B started by buildFormFactors and solve (no work
+    // when none is pending) and returns their warnings ("F not cached: ...", one per line), which
+    // it also logs; "" on success. Called by formFactorsCached and the destructor.
     std::string finishCacheWrite() const;
     bool hasFormFactors() const;
     // The transport built by buildFormFactors (precondition: hasFormFactors()); the shared
@@ -176,7 +192,10 @@ public:
     // from its exposed part), and returns the whole-patch means B = E + phi (B' - E); `gathered`
     // is F B'. Not converging within the iteration limit is a warning (logged, except when
     // request.maxIterations bounds the solve), not an error; cancellation returns the last
-    // iterate with cancelled = true.
+    // iterate with cancelled = true. With request.useSolutionCache, the converged solution the
+    // disk cache holds for these settings is adopted instead (no iterations, changeHistory
+    // empty); with it or request.storeSolution a converged result is stored there in the
+    // background.
     Expected<SolverResult> solve(const SolveRequest& request = {});
     // The exposed share of every patch (radiosity/patch_exposure.h), probed on first use (rays).
     Expected<const PatchExposure*> exposure() const;
@@ -186,10 +205,18 @@ public:
     EnergyBalance energyBalance() const;
     bool hasSolution() const;
     const SolverResult& solution() const;  // precondition: hasSolution()
+    // The key of the disk cache's converged solution for the current F key, system (materials,
+    // wavelengths) and solver settings (pipeline/solution_cache.h).
+    SolutionKey solutionKey() const;
+    // Adopts the converged B and G the disk cache holds under solutionKey(), when it holds them:
+    // the solution of a solve with the settings' solver, without F or a solve (the viewer's warm
+    // open). A miss or a rejected entry (logged) changes nothing.
+    SolutionCacheReport loadCachedSolution();
     // Sets B = E (the viewer's "reset to emission"; the next warm start starts there).
     void resetToEmission();
-    // Uses `radiosity` (n x m) as the solution (the bench's analytic furnace answer).
-    void setSolution(std::vector<double> radiosity);
+    // Uses `radiosity` (n x m) as the solution (the bench's analytic furnace answer; with
+    // `converged` false, a picture to show and start the next solve from, not an answer).
+    void setSolution(std::vector<double> radiosity, bool converged = true);
 
     // ---- the first bounce of an edit ----
     // Replaces the solution's radiosity of the patches with selected[i] != 0 by one bounce of
@@ -198,6 +225,10 @@ public:
     // viewer's preview of an edit, exact for a converged solve whose materials did not change.
     // False (nothing changed) when no finished solve of this wavelength set left its G.
     bool previewBounce(std::span<const uint8_t> selected);
+    // Probes the patches' exposed parts and derives their system for the transport in hand (a
+    // solve's first step), so that previewBounce after a solution adopted from the cache
+    // (loadCachedSolution) is immediate. Precondition: hasFormFactors().
+    Expected<void> prepareExposedParts();
 
     // ---- display colours (of the solution; B = E when there is none) ----
     // The radiosity shown: the solution's B, or E before any solve (n x m).

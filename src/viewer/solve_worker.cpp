@@ -9,6 +9,7 @@
 #include "core/log.h"
 #include "core/strings.h"
 #include "core/timer.h"
+#include "image/final_gather.h"
 
 namespace daisy::viewer {
 namespace {
@@ -40,13 +41,18 @@ struct SolveWorker::Command {
     std::string text;
 };
 
-SolveWorker::SolveWorker(Session session)
+SolveWorker::SolveWorker(Session session, bool waitForFirstFrame)
     : session_(std::move(session)),
       patches_(session_.patches()),
-      transportStats_(session_.transport().stats()),
-      transportKind_(session_.transport().kind()),
-      initialScene_(session_.scene()) {
+      initialScene_(session_.scene()),
+      waitForFirstFrame_(waitForFirstFrame) {
     if (session_.hasSolution()) iteration_ = session_.solution().iterations;
+    if (session_.hasFormFactors()) {
+        transportStats_ = session_.transport().stats();
+        transportKind_ = session_.transport().kind();
+    }
+    building_ = !session_.hasFormFactors();
+    busy_ = true;  // until open() has run
     publish("", false);
     thread_ = std::thread([this] { run(); });
 }
@@ -56,6 +62,7 @@ SolveWorker::~SolveWorker() {
         std::lock_guard lock(mutex_);
         stop_ = true;
         cancel_.cancel();
+        stopBuild_.cancel();
     }
     wake_.notify_all();
     shownChanged_.notify_all();
@@ -65,6 +72,7 @@ SolveWorker::~SolveWorker() {
 void SolveWorker::post(Command command) {
     {
         std::lock_guard lock(mutex_);
+        if (failed_) return;  // no F: nothing to run
         if (command.kind == Command::Kind::SetMaterial || command.kind == Command::Kind::SetLight)
             editPostedAt_ = steadySeconds();
         queue_.push_back(std::move(command));
@@ -107,6 +115,21 @@ std::shared_ptr<const DisplaySnapshot> SolveWorker::latest() const {
     return latest_;
 }
 
+BuildProgress SolveWorker::buildProgress() const {
+    std::lock_guard lock(mutex_);
+    return progress_;
+}
+
+TransportStats SolveWorker::transportStats() const {
+    std::lock_guard lock(mutex_);
+    return transportStats_;
+}
+
+const char* SolveWorker::transportKind() const {
+    std::lock_guard lock(mutex_);
+    return transportKind_;
+}
+
 bool SolveWorker::idle() const {
     std::lock_guard lock(mutex_);
     return queue_.empty() && !busy_;
@@ -141,6 +164,10 @@ void SolveWorker::publish(const std::string& message, bool solving) {
     snapshot->message = message_;
     snapshot->refusedEdits = refusedEdits_;
     snapshot->refusedMaterial = refusedMaterial_;
+    snapshot->building = building_;
+    snapshot->fromCache = fromCache_;
+    snapshot->directLight = directLight_;
+    snapshot->error = error_;
     if (session_.hasSolution() && !solving) {
         const SolverResult& result = session_.solution();
         snapshot->gathered = session_.lastGathered();
@@ -182,10 +209,14 @@ void SolveWorker::solve(bool bounce) {
     SolveRequest request;
     request.warmStart = true;
     request.cancel = &cancel_;
+    // A converged solution is stored beside F, so the next open shows it at once (the open
+    // looks it up; an edit's re-solve always runs).
+    request.storeSolution = !bounce;
     if (bounce) {
         request.kind = SolverKind::Jacobi;
         request.maxIterations = 1;
     }
+    directLight_ = false;
     std::vector<double> previous;
     if (session_.hasSolution()) previous = session_.solution().radiosity;
     double lastPublish = -1;
@@ -224,7 +255,128 @@ void SolveWorker::waitForPreview() {
                            [&] { return stop_ || !queue_.empty() || shownVersion_ >= version_; });
 }
 
+void SolveWorker::observeBuild(std::string_view stage, uint64_t done, uint64_t total) {
+    const double now = steadySeconds();
+    std::lock_guard lock(mutex_);
+    if (progress_.stage != stage) {
+        progress_.stage = std::string(stage);
+        stageStartedAt_ = now;
+    }
+    progress_.fraction = total > 0 ? std::min(double(done) / double(total), 1.0) : 0;
+    progress_.elapsedSeconds = now - buildStartedAt_;
+    // The stage's mean rate so far; unknown until it has done a little.
+    const double stageSeconds = now - stageStartedAt_;
+    progress_.etaSeconds = progress_.fraction > 0.005 && stageSeconds > 0.1
+        ? stageSeconds * (1 - progress_.fraction) / progress_.fraction
+        : -1;
+    ++progress_.version;
+}
+
+bool SolveWorker::open() {
+    const Timer timer;
+    const bool cache = session_.settings().cacheDirectory.has_value();
+    if (cache && !session_.hasSolution() && session_.loadCachedSolution().hit) {
+        iteration_ = session_.solution().iterations;
+        fromCache_ = true;
+        publish("", false);
+        logVerbose(concat("view: the converged solution from the cache published in ",
+                          formatNumber(timer.seconds() * 1e3, 3), " ms"));
+    }
+    if (!session_.hasFormFactors() && !session_.hasSolution()) showDirectLight();
+    if (!session_.hasFormFactors()) {
+        if (waitForFirstFrame_) {
+            std::unique_lock lock(mutex_);
+            shownChanged_.wait_for(lock, std::chrono::duration<double>(kFirstFrameWaitSeconds),
+                                   [&] { return stop_ || shownVersion_ > 0; });
+            if (stop_) return false;
+        }
+        const bool cached = session_.formFactorsCached();
+        {
+            std::lock_guard lock(mutex_);
+            buildStartedAt_ = stageStartedAt_ = steadySeconds();
+            progress_ = BuildProgress{};
+            progress_.active = true;
+            progress_.stage =
+                cached ? "reading the view factors from the cache" : "preparing the view factors";
+            progress_.version = 1;
+        }
+        auto built = session_.buildFormFactors(
+            &stopBuild_, [this](std::string_view stage, uint64_t done, uint64_t total) {
+                observeBuild(stage, done, total);
+            });
+        {
+            std::lock_guard lock(mutex_);
+            progress_.active = false;
+            ++progress_.version;
+            if (built) {
+                transportStats_ = session_.transport().stats();
+                transportKind_ = session_.transport().kind();
+            }
+        }
+        building_ = false;
+        if (!built) {
+            if (stopBuild_.cancelled()) return false;
+            error_ = built.error().message;
+            publish("", false);
+            return false;
+        }
+        logVerbose(concat("view: view factors ready in ", formatNumber(timer.seconds(), 3), " s"));
+    }
+    building_ = false;
+    if (fromCache_) {
+        // The next edit's first bounce needs the exposed parts a solve would have derived.
+        if (auto prepared = session_.prepareExposedParts(); !prepared) {
+            publish(prepared.error().message, false);
+        } else {
+            publish("", false);
+        }
+        return true;
+    }
+    if (!session_.hasSolution() || !session_.solution().converged) solve(false);
+    return true;
+}
+
+void SolveWorker::showDirectLight() {
+    const Timer timer;
+    const RadiositySystem& system = session_.system();
+    DirectLightSettings direct;
+    direct.shadowRays = kPreviewShadowRays;
+    auto irradiance =
+        patchDirectIrradiance(session_.scene(), patches_, system, direct, &stopBuild_);
+    if (!irradiance) {
+        logWarning(
+            concat("view: no direct light before the view factors: ", irradiance.error().message));
+        return;
+    }
+    if (stopBuild_.cancelled()) return;
+    std::vector<double> radiosity = system.emission;
+    const std::size_t m = system.wavelengthCount;
+    std::vector<double> reflected(m);
+    for (std::size_t i = 0; i < system.patchCount; ++i) {
+        applyOperator(system.operators[system.patchOperator[i]], irradiance->data() + i * m,
+                      reflected.data());
+        for (std::size_t k = 0; k < m; ++k)
+            radiosity[i * m + k] += reflected[k];
+    }
+    session_.setSolution(std::move(radiosity), false);
+    directLight_ = true;
+    publish("", false);
+    logVerbose(concat("view: the emitters' direct light in ",
+                      formatNumber(timer.seconds() * 1e3, 3), " ms"));
+}
+
 void SolveWorker::run() {
+    const bool opened = open();
+    {
+        std::lock_guard lock(mutex_);
+        busy_ = false;
+        // Without F nothing can run: commands are dropped, and later ones too.
+        if (!opened) {
+            failed_ = true;
+            queue_.clear();
+            return;
+        }
+    }
     for (;;) {
         Command command;
         {
@@ -233,6 +385,7 @@ void SolveWorker::run() {
             if (stop_) return;
             command = std::move(queue_.front());
             queue_.pop_front();
+            fromCache_ = false;  // the command changes what is shown
             // A command still queued behind this one keeps the token cancelled: its solve
             // returns at once and the newer command runs.
             if (queue_.empty()) cancel_.reset();

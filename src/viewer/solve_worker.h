@@ -1,9 +1,16 @@
 #pragma once
-// The viewer's background solver: owns the session after its transport is built and runs every
-// edit and solve on its own thread, so the window keeps drawing. A new command cancels the solve
-// running (core/cancel.h); material edits re-solve warm from the last B on the same transport,
-// which is never rebuilt (Session::setMaterial). Before that solve, the edited material's patches
-// get one bounce of the light that reached them in the last finished solve
+// The viewer's background solver: owns the session from the moment its patches, E and M are
+// ready and runs everything expensive on its own thread, so the window opens at once and keeps
+// drawing. It first publishes B = E (the emission, with the punctual lights' direct light), then
+// on its thread adopts the converged solution from the disk cache when it holds one
+// (Session::loadCachedSolution), or else publishes B = E + M H with the emitters' direct light H
+// at the patch centroids (image/final_gather.h patchDirectIrradiance, shadow rays, no F), makes
+// F available (memory, the disk cache or a backend) while
+// publishing the build's progress (buildProgress: the window's progress bar and ETA), and solves
+// unless the cached solution stands. Commands posted meanwhile wait for F. A new command cancels
+// the solve running (core/cancel.h); material edits re-solve warm from the last B on the same
+// transport, which is never rebuilt (Session::setMaterial). Before that solve, the edited
+// material's patches get one bounce of the light that reached them in the last finished solve
 // (Session::previewBounce): an image within milliseconds of the edit, which the solve then
 // corrects. While a solve runs, the iterate is published every kPublishSeconds (and after the
 // first iteration), so the picture updates as it converges.
@@ -13,6 +20,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -47,15 +55,37 @@ struct DisplaySnapshot {
     std::size_t refusedMaterial = SIZE_MAX;  // the material of the last refused edit
     // Seconds from the last material edit's post to this snapshot (-1 when no edit yet).
     double secondsSinceEdit = -1;
+    bool building = false;  // F is being made: B is the emission or the cached solution
+    bool fromCache = false;  // B is the converged solution from the disk cache
+    bool directLight = false;  // B = E + M H, the emitters' direct light (no F yet)
+    std::string error;  // F could not be made (the reason): nothing will be solved
+};
+
+// The progress of making F, for the window's progress bar.
+struct BuildProgress {
+    bool active = false;  // F is being made
+    std::string stage;  // the build's stage ("view factors"), or what precedes it
+    double fraction = 0;  // of the stage, in [0, 1]
+    double elapsedSeconds = 0;  // since F began
+    double etaSeconds = -1;  // seconds left in the stage, estimated from its rate; -1: unknown
+    uint64_t version = 0;  // increases with every update
 };
 
 class SolveWorker {
 public:
     static constexpr double kPublishSeconds = 0.05;
 
-    // Takes the session (F built, solved or not) and publishes its state.
-    explicit SolveWorker(Session session);
-    ~SolveWorker();  // cancels the solve running and joins the thread
+    // Takes the session (F built or not, solved or not), publishes its state, and starts the
+    // thread, which makes F and the solution (above) before the first command runs. With
+    // `waitForFirstFrame`, F is begun only once a frame has been shown (shown(), at most
+    // kFirstFrameWaitSeconds after the start): the window's set-up (a CPU Vulkan driver compiles
+    // its pipelines then) does not compete with the build for the cores.
+    explicit SolveWorker(Session session, bool waitForFirstFrame = false);
+    static constexpr double kFirstFrameWaitSeconds = 5;
+    // Shadow segments a patch for the direct light shown before F (about 4 ms a thousand
+    // patches and light on one core).
+    static constexpr int kPreviewShadowRays = 16;
+    ~SolveWorker();  // cancels the F build or the solve running and joins the thread
     SolveWorker(const SolveWorker&) = delete;
     SolveWorker& operator=(const SolveWorker&) = delete;
 
@@ -75,7 +105,8 @@ public:
 
     // The newest snapshot (never null).
     std::shared_ptr<const DisplaySnapshot> latest() const;
-    // True when no command is queued or running.
+    BuildProgress buildProgress() const;
+    // True when no command is queued or running (nor F being made or the first solve).
     bool idle() const;
     // The viewer has submitted a frame showing snapshot `version`. An edit's first-bounce
     // preview waits for this (at most kPreviewWaitSeconds) before the solve takes the cores, so
@@ -85,9 +116,10 @@ public:
 
     // Immutable after construction, safe to read from any thread.
     const PatchMesh& patches() const { return patches_; }
-    const TransportStats& transportStats() const { return transportStats_; }
-    const char* transportKind() const { return transportKind_; }
     const Scene& initialScene() const { return initialScene_; }
+    // Of F once made: its sizes, and its kind ("matrix"; "" while F is being made).
+    TransportStats transportStats() const;
+    const char* transportKind() const;
 
 private:
     struct Command;
@@ -96,6 +128,12 @@ private:
     void publish(const std::string& message, bool solving);
     // DisplaySnapshot::emittedWatts and emittedLumens from the session's E.
     void emittedPower(DisplaySnapshot& snapshot) const;
+    // The start: the cached solution, F, then a solve unless the cached solution stands. False
+    // when F could not be made (the snapshot's error says why) or the worker is stopping.
+    bool open();
+    void observeBuild(std::string_view stage, uint64_t done, uint64_t total);
+    // Publishes B = E + M H (above); the first solve starts from it.
+    void showDirectLight();
     void solve(bool bounce);
     // The edited material's first bounce (above), published; nothing without a gathered G.
     void firstBounce(std::size_t material);
@@ -104,9 +142,17 @@ private:
 
     Session session_;
     const PatchMesh& patches_;
-    TransportStats transportStats_;
-    const char* transportKind_;
     Scene initialScene_;
+    TransportStats transportStats_;  // guarded by mutex_, as the members below
+    const char* transportKind_ = "";
+    BuildProgress progress_;
+    double buildStartedAt_ = 0, stageStartedAt_ = 0;
+    bool building_ = false;
+    bool fromCache_ = false;
+    bool directLight_ = false;
+    std::string error_;
+    CancelToken stopBuild_;  // cancelled only by the destructor (edits do not stop F)
+    bool waitForFirstFrame_ = false;
     mutable std::mutex mutex_;
     std::condition_variable wake_;
     std::condition_variable shownChanged_;
@@ -114,6 +160,7 @@ private:
     std::deque<Command> queue_;
     bool busy_ = false;
     bool stop_ = false;
+    bool failed_ = false;  // F could not be made: commands are dropped
     CancelToken cancel_;
     std::shared_ptr<const DisplaySnapshot> latest_;
     uint64_t version_ = 0;

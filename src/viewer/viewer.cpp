@@ -26,6 +26,7 @@
 #include "image/renderer.h"
 #include "image/texture_detail.h"
 #include "spectral/color.h"
+#include "viewer/build_status.h"
 #include "viewer/display_values.h"
 #include "viewer/material_edit.h"
 #include "viewer/patch_pipeline.h"
@@ -109,7 +110,7 @@ void colourRows(double scale, float rows[9]) {
 class Viewer {
 public:
     Viewer(Session session, const ViewerOptions& options)
-        : options_(options), worker_(std::move(session)) {}
+        : options_(options), worker_(std::move(session), true) {}
     ~Viewer();
 
     // 0, or the exit status of a failure (message logged).
@@ -135,6 +136,9 @@ private:
     // After a scripted edit: when the first frame showing an updated iterate, and the first
     // showing the converged solution, were submitted (seconds after the edit was posted).
     void trackEdit();
+    // Logs the first frame, and the first showing a converged solution, with their time since
+    // the command started and what they showed.
+    void logOpening(bool drawn);
 
     ViewerOptions options_;
     SolveWorker worker_;
@@ -171,6 +175,8 @@ private:
     uint64_t editVersion_ = 0;
     double firstImageSeconds_ = -1, convergedSeconds_ = -1;
     uint64_t shownVersion_ = 0;  // the snapshot the last frame drew
+    uint64_t shownProgress_ = 0;  // the BuildProgress version the last frame drew
+    bool firstFrameLogged_ = false, convergedFrameLogged_ = false;
     bool shownSolving_ = false;
     double shownSinceEdit_ = -1;  // the shown snapshot's age of the edit when published
     double firstPublishedSeconds_ = -1, convergedPublishedSeconds_ = -1;
@@ -373,6 +379,9 @@ int Viewer::open() {
         logError(concat("daisy view: ", made.error().message));
         return 2;
     }
+    logVerbose(concat("view: window, device and pipeline ready ",
+                      formatNumber(secondsSince(options_.startedAt) * 1e3, 3),
+                      " ms after the start"));
     const std::string materialsPath = !options_.saveMaterialsPath.empty()
         ? options_.saveMaterialsPath
         : std::filesystem::path(scene_.path).stem().string() + ".materials.json";
@@ -672,6 +681,7 @@ Expected<bool> Viewer::drawFrame(bool capture) {
         return false;
     }
     if (acquired != VK_SUBOPTIMAL_KHR) VK_CHECK(acquired);
+    shownProgress_ = worker_.buildProgress().version;
     const std::shared_ptr<const DisplaySnapshot> snapshot = worker_.latest();
     updateValues(frame_, *snapshot);
     shownVersion_ = snapshot->version;
@@ -684,6 +694,7 @@ Expected<bool> Viewer::drawFrame(bool capture) {
         ImGui_ImplGlfw_NewFrame();
         ImGui::NewFrame();
         if (showPanel_) drawPanel(ui_, *snapshot, worker_, scene_);
+        drawBuildStatus(worker_.buildProgress(), *snapshot);
         ImGui::Render();
     }
 
@@ -832,6 +843,29 @@ void Viewer::exerciseWindow(int frame) {
     }
 }
 
+void Viewer::logOpening(bool drawn) {
+    if (!drawn || (firstFrameLogged_ && convergedFrameLogged_)) return;
+    const double ms = secondsSince(options_.startedAt) * 1e3;
+    const auto snapshot = worker_.latest();
+    if (!firstFrameLogged_) {
+        firstFrameLogged_ = true;
+        const std::string status = buildStatusLine(worker_.buildProgress(), *snapshot);
+        logInfo(concat("view: first frame ", formatNumber(ms, 3), " ms after the start, showing ",
+                       snapshot->fromCache         ? "the converged solution from the cache"
+                           : snapshot->converged   ? "the converged solution"
+                           : snapshot->directLight ? "the emitters' direct light"
+                                                   : "the emission",
+                       snapshot->building ? " while the view factors are made" : "",
+                       status.empty() ? "" : concat(" (", status, ")")));
+    }
+    if (!convergedFrameLogged_ && snapshot->converged && !snapshot->solving &&
+        shownVersion_ == snapshot->version) {
+        convergedFrameLogged_ = true;
+        logInfo(concat("view: first converged frame ", formatNumber(ms, 3), " ms after the start",
+                       snapshot->fromCache ? " (the solution from the cache)" : ""));
+    }
+}
+
 void Viewer::trackEdit() {
     if (editPostedAt_ < 0 || shownVersion_ <= editVersion_) return;
     const double since = clock_.seconds() - editPostedAt_;
@@ -851,9 +885,13 @@ int Viewer::run() {
     double lastFrameSeconds = 0, titleFrameSeconds = -1;
     double titleAt = -1;
     const auto setTitle = [&](double frameSeconds) {
+        // While F is being made (or when it failed) the title says so, for the --frames mode
+        // and a hidden panel too.
+        const std::string status = buildStatusLine(worker_.buildProgress(), *worker_.latest());
         glfwSetWindowTitle(
             window_,
-            concat("daisy view - ", scene_.path, " - ", formatNumber(frameSeconds * 1e3, 3), " ms")
+            concat("daisy view - ", scene_.path, " - ", formatNumber(frameSeconds * 1e3, 3), " ms",
+                   status.empty() ? "" : " - " + status)
                 .c_str());
     };
     bool minimisedLogged = false;
@@ -884,7 +922,8 @@ int Viewer::run() {
         const bool active = events_.activity || held;
         events_.activity = false;
         settleFrames_ = active ? 3 : std::max(settleFrames_ - 1, 0);
-        const bool fresh = worker_.latest()->version != shownVersion_;
+        const bool fresh = worker_.latest()->version != shownVersion_ ||
+            worker_.buildProgress().version != shownProgress_;
         const bool counting = options_.frames > 0 && worker_.idle();
         if (settleFrames_ <= 0 && !fresh && !resized_ && !counting && !ui_.screenshotRequest &&
             !exposurePending_ && frameNumber > 0) {
@@ -949,6 +988,7 @@ int Viewer::run() {
         }
         const bool drawn = *frameDrawn;
         if (drawn) worker_.shown(shownVersion_);
+        logOpening(drawn);
         // The frame's own time (record, submit, the wait for the frame before last): the frame
         // period when drawing continuously.
         const double work = clock_.seconds() - now;
@@ -960,7 +1000,7 @@ int Viewer::run() {
         ui_.frameSeconds = smoothedFrame;
         ++frameNumber;
         if (options_.exerciseWindow) exerciseWindow(frameNumber);
-        if (now - titleAt >= 0.25) {
+        if (now - titleAt >= 0.25 || worker_.buildProgress().active) {
             titleAt = now;
             titleFrameSeconds = lastFrameSeconds;
             setTitle(smoothedFrame > 0 ? smoothedFrame : work);
@@ -1001,6 +1041,11 @@ int Viewer::run() {
                     " ms; ", snapshot->iteration, " iterations, residual ",
                     formatNumber(snapshot->residual, 3), ")",
                     snapshot->message.empty() ? "" : concat("; ", snapshot->message)));
+            }
+            if (!snapshot->error.empty()) {
+                logError(concat("daisy view: no view factors: ", snapshot->error));
+                vkDeviceWaitIdle(context_.device);
+                return 2;
             }
             if (!options_.saveMaterialsPath.empty()) {
                 auto saved =

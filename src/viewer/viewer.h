@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/timer.h"
 #include "image/exposure.h"
 #include "pipeline/session.h"
 
@@ -33,6 +34,8 @@ struct ViewerOptions {
     std::optional<std::array<double, 2>> pick;
     std::string display;  // --display (viewer/display_values.h parseDisplay); empty = colour
     std::string wavelengthsText = "auto";  // --wavelengths as typed, for the panel
+    // When the command started: the log's times of the first frame and the first converged one.
+    Clock::time_point startedAt = Clock::now();
 };
 
 // Why the viewer cannot run here, checked before the view factors so that it fails in
@@ -45,11 +48,12 @@ struct ViewerUnavailable {
 };
 ViewerUnavailable viewerUnavailable(const std::string& device);
 
-// Runs the viewer on `session` (F built and solved) until the window closes, or for the test
-// mode's frames, and returns the exit status: 0, 2 for a bad --edit or --camera (checked before
-// the window opens) and for a failed Vulkan call (VK_CHECK's message: out of device memory, a
-// lost device or surface), 1 for no display or no Vulkan device that presents (the message,
-// logged, says which).
+// Runs the viewer on `session` (patches, E and M ready; F and the solution are made by the solve
+// worker while the window shows the emission) until the window closes, or for the test mode's
+// frames, and returns the exit status: 0, 2 for a bad --edit or --camera (checked before the
+// window opens), for view factors that could not be made (the test mode) and for a failed Vulkan
+// call (VK_CHECK's message: out of device memory, a lost device or surface), 1 for no display or
+// no Vulkan device that presents (the message, logged, says which).
 int runViewer(Session session, const ViewerOptions& options);
 
 }  // namespace daisy::viewer

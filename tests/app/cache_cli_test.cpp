@@ -18,11 +18,14 @@ using test::RunResult;
 
 const std::string kCornellBox = test::assetPath("scenes/cornell_box.gltf");
 
-std::vector<std::filesystem::path> entries(const std::filesystem::path& dir) {
+// The files of `dir`, or those with extension `extension` (".dff": F, ".dbr": solutions).
+std::vector<std::filesystem::path> entries(const std::filesystem::path& dir,
+                                           const std::string& extension = "") {
     std::vector<std::filesystem::path> found;
     if (!std::filesystem::is_directory(dir)) return found;
     for (const auto& entry : std::filesystem::directory_iterator(dir))
-        found.push_back(entry.path());
+        if (extension.empty() || entry.path().extension() == extension)
+            found.push_back(entry.path());
     return found;
 }
 
@@ -34,8 +37,10 @@ TEST(CacheCli, SecondRenderReadsFAndCorruptionIsRebuilt) {
         runDaisy("render " + kCornellBox + common + " --width 64 -o " + (dir / "a.png").string());
     ASSERT_EQ(first.status, 0) << first.output;
     EXPECT_EQ(first.output.find("from the cache"), std::string::npos) << first.output;
-    ASSERT_EQ(entries(cache).size(), 1u);
-    EXPECT_EQ(entries(cache)[0].extension(), ".dff");
+    // F, and the converged solution beside it (docs/cache.md, "Solutions (B)").
+    ASSERT_EQ(entries(cache).size(), 2u);
+    EXPECT_EQ(entries(cache, ".dff").size(), 1u);
+    EXPECT_EQ(entries(cache, ".dbr").size(), 1u);
 
     const RunResult info = runDaisy("info " + kCornellBox + common);
     EXPECT_EQ(info.status, 0) << info.output;
@@ -49,14 +54,17 @@ TEST(CacheCli, SecondRenderReadsFAndCorruptionIsRebuilt) {
                  " --wavelengths visible --width 48 -o " + (dir / "b.png").string());
     ASSERT_EQ(second.status, 0) << second.output;
     EXPECT_NE(second.output.find("from the cache"), std::string::npos) << second.output;
-    EXPECT_EQ(entries(cache).size(), 1u);
+    EXPECT_EQ(entries(cache, ".dff").size(), 1u);
+    // Other materials and wavelengths: another solution, solved and stored.
+    EXPECT_EQ(second.output.find("solution from the cache"), std::string::npos) << second.output;
+    EXPECT_EQ(entries(cache, ".dbr").size(), 2u);
 
     // Another K is another key: built and stored beside the first.
     const RunResult moreRays = runDaisy("render " + kCornellBox + common +
                                         " --rays 8 --width 32 -o " + (dir / "c.png").string());
     ASSERT_EQ(moreRays.status, 0) << moreRays.output;
     EXPECT_EQ(moreRays.output.find("from the cache"), std::string::npos) << moreRays.output;
-    EXPECT_EQ(entries(cache).size(), 2u);
+    EXPECT_EQ(entries(cache, ".dff").size(), 2u);
 
     // Flip one byte in the middle of every entry: reported, rebuilt, stored again.
     for (const auto& path : entries(cache)) {
@@ -79,7 +87,10 @@ TEST(CacheCli, SecondRenderReadsFAndCorruptionIsRebuilt) {
     const RunResult again =
         runDaisy("render " + kCornellBox + common + " --width 32 -o " + (dir / "e.png").string());
     ASSERT_EQ(again.status, 0) << again.output;
-    EXPECT_NE(again.output.find("from the cache"), std::string::npos) << again.output;
+    EXPECT_NE(again.output.find("non-zeros from the cache"), std::string::npos) << again.output;
+    // A warm render skips the solve: B (stored by the run before) comes from the cache too.
+    EXPECT_NE(again.output.find("solve: the converged solution from the cache"), std::string::npos)
+        << again.output;
 }
 
 TEST(CacheCli, NoCacheNeitherReadsNorWrites) {

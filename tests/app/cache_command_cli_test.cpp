@@ -96,7 +96,7 @@ TEST(CacheCommandCli, FollowsXdgCacheHomeAndRemovesStaleTemporaries) {
     EXPECT_EQ(fileNames(dir), std::vector<std::string>{"entry.dff"});
 }
 
-// A real F entry: listed with its patch count; an F larger than --cache-size is not stored, and
+// Real entries (F and B): listed with their kinds; an F larger than --cache-size is not stored, and
 // the run says so in one line and succeeds.
 TEST(CacheCommandCli, SolveHonoursTheLimit) {
     const std::string scene = test::assetPath("scenes/parallel_plates.gltf");
@@ -110,12 +110,16 @@ TEST(CacheCommandCli, SolveHonoursTheLimit) {
 
     const RunResult solve = runDaisy("solve " + scene + folder + " --cache-size 1G");
     ASSERT_EQ(solve.status, 0) << solve.output;
-    ASSERT_EQ(fileNames(dir).size(), 1u);
+    // F and the converged solution, each listed with its kind.
+    ASSERT_EQ(fileNames(dir).size(), 2u);
     const RunResult list = runDaisy("cache list" + folder);
     ASSERT_EQ(list.status, 0) << list.output;
-    EXPECT_TRUE(contains(list.output, fileNames(dir)[0])) << list.output;
-    EXPECT_TRUE(contains(list.output, " patches, ")) << list.output;
+    for (const std::string& name : fileNames(dir))
+        EXPECT_TRUE(contains(list.output, name)) << list.output;
     EXPECT_TRUE(contains(list.output, "F: ")) << list.output;
+    EXPECT_TRUE(contains(list.output, " patches, ")) << list.output;
+    EXPECT_TRUE(contains(list.output, "B: ")) << list.output;
+    EXPECT_TRUE(contains(list.output, " wavelengths (a converged solution)")) << list.output;
 }
 
 TEST(CacheCommandCli, BadUsage) {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "image/camera.h"
+#include "image/final_gather.h"
 #include "image/pixel_samples.h"
 #include "image/radiosity_image.h"
 #include "pathtrace/path_tracer.h"
@@ -150,6 +151,34 @@ TEST(FinalGather, ParallelPlatesMatchThePointToPolygonClosedForm) {
     EXPECT_GT(checked, 60);
     // The oracle sees the difference: the smooth image is several percent off somewhere.
     EXPECT_GT(worstSmooth, 0.03);
+}
+
+// The per-patch estimate the viewer shows before F (patchDirectIrradiance): nothing between
+// the plates, so every shadow segment is open and H at a receiver patch's centroid is exactly
+// E F(centroid -> source) (E = 1); the source reflects nothing and gets none.
+TEST(FinalGather, PatchDirectIrradianceIsThePointToPolygonFactorAtTheCentroid) {
+    const Plates p = plates();
+    SessionSettings settings;
+    settings.subdivideMaxEdge = 0.25;
+    settings.wavelengthSet = *WavelengthSet::fromWavelengths({550}, "550");
+    settings.logStages = false;
+    auto session = Session::fromScene(p.scene, settings);
+    ASSERT_TRUE(session.ok()) << session.error().message;
+    const PatchMesh& patches = session->patches();
+    auto h = patchDirectIrradiance(p.scene, patches, session->system(), DirectLightSettings{});
+    ASSERT_TRUE(h.ok()) << h.error().message;
+    ASSERT_EQ(h->size(), patches.patchCount());
+    int receivers = 0;
+    for (uint32_t i = 0; i < patches.patchCount(); ++i) {
+        if (patches.materials[i] == 1) {
+            EXPECT_EQ((*h)[i], 0.0);
+            continue;
+        }
+        const double exact = verify::pointToPolygon(patches.centroids[i], {0, 0, 1}, p.source);
+        EXPECT_NEAR((*h)[i], exact, 1e-5 * exact) << i;
+        ++receivers;
+    }
+    EXPECT_GE(receivers, 32);  // the unit square at edges <= 0.25
 }
 
 TEST(FinalGather, PathTracerAgreesWithTheGatheredPlates) {

@@ -9,8 +9,13 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <memory>
 #include <thread>
 
+#include "pipeline/solution_cache.h"
+#include "session_util.h"
+#include "test_util.h"
 #include "verify/scenes.h"
 
 namespace daisy::viewer {
@@ -23,13 +28,7 @@ Scene room() {
 }
 
 Session solvedRoom(const std::vector<std::pair<std::size_t, Material>>& edits = {}) {
-    SessionSettings settings;
-    settings.backend = "cpu";
-    settings.subdivideMaxEdge = 0;
-    settings.formFactors.progress = false;
-    settings.logStages = false;
-    settings.wavelengths.preset = "daisyriot";
-    settings.solver.tolerance = 1e-8;
+    SessionSettings settings = test::unitRoomSettings();
     auto session = Session::fromScene(room(), settings);
     EXPECT_TRUE(session.ok()) << session.error().message;
     for (const auto& [index, material] : edits)
@@ -203,6 +202,91 @@ TEST(SolveWorker, ARefusedEditStillLetsTheAcceptedEditConverge) {
         largest = std::max(largest, double(std::abs(expected[k])));
     }
     EXPECT_LT(worst, 1e-5 * largest);
+}
+
+// The window opens before F exists: the worker's first snapshot is B = E (building), then it
+// makes F on its thread and converges to what the session solving directly gives.
+TEST(SolveWorker, ShowsTheEmissionWhileFIsMadeThenConverges) {
+    SessionSettings settings = test::unitRoomSettings();
+    auto session = Session::fromScene(room(), settings);
+    ASSERT_TRUE(session.ok()) << session.error().message;
+    const std::vector<double> emission = session->system().emission;
+    SolveWorker worker(std::move(*session));
+    const auto first = worker.latest();
+    EXPECT_TRUE(first->building);
+    EXPECT_EQ(first->radiosity, emission);
+    waitIdle(worker);
+    const auto last = worker.latest();
+    EXPECT_FALSE(last->building);
+    EXPECT_TRUE(last->converged);
+    EXPECT_STREQ(worker.transportKind(), "matrix");
+    EXPECT_GT(worker.transportStats().entries, 0u);
+    EXPECT_FALSE(worker.buildProgress().active);
+    const std::vector<float> expected = solvedRoom().patchChannels(true);
+    ASSERT_EQ(last->patchValues.size(), expected.size());
+    double worst = 0, largest = 0;
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+        worst = std::max(worst, double(std::abs(last->patchValues[k] - expected[k])));
+        largest = std::max(largest, double(std::abs(expected[k])));
+    }
+    EXPECT_LT(worst, 1e-5 * largest);
+}
+
+// Closing the window while F is being made cancels the build (core/cancel.h): the worker's
+// destructor returns within a second, long before the build would have ended.
+TEST(SolveWorker, ClosingWhileFIsMadeCancelsTheBuild) {
+    SessionSettings settings = test::unitRoomSettings();
+    // 6 faces x 24^2 x 2 = 6,912 patches: F takes several seconds on any machine.
+    auto session = Session::fromScene(verify::unitRoomScene(24, "D65"), settings);
+    ASSERT_TRUE(session.ok()) << session.error().message;
+    auto worker = std::make_unique<SolveWorker>(std::move(*session));
+    // The pair loop has reported progress (the build is under way, its ETA known or not).
+    BuildProgress progress;
+    for (int k = 0; k < 6000; ++k) {
+        progress = worker->buildProgress();
+        if (progress.stage == "view factors" && progress.fraction > 0) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ASSERT_TRUE(progress.active);
+    ASSERT_EQ(progress.stage, "view factors");
+    EXPECT_LT(progress.fraction, 1.0);
+    EXPECT_TRUE(worker->latest()->building);
+    EXPECT_STREQ(worker->transportKind(), "");
+    const auto start = std::chrono::steady_clock::now();
+    worker.reset();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_LT(seconds, 1.0);
+}
+
+// A warm open: the converged solution the disk cache holds for these materials is shown as it
+// was stored, and nothing is solved (the worker's iteration count is the stored solve's).
+TEST(SolveWorker, AWarmOpenShowsTheCachedSolutionWithoutSolving) {
+    SessionSettings settings = test::unitRoomSettings();
+    settings.cacheDirectory = test::testTempDir() / "cache";
+    auto cold = Session::fromScene(room(), settings);
+    ASSERT_TRUE(cold.ok());
+    SolveWorker coldWorker(std::move(*cold));
+    waitIdle(coldWorker);
+    const auto solved = coldWorker.latest();
+    ASSERT_TRUE(solved->converged);
+    EXPECT_FALSE(solved->fromCache);
+
+    auto warm = Session::fromScene(room(), settings);
+    ASSERT_TRUE(warm.ok());
+    // The cold session's background store of B has landed.
+    const auto entry = SolutionCache(*settings.cacheDirectory).entryPath(warm->solutionKey());
+    for (int k = 0; k < 200 && !std::filesystem::exists(entry); ++k)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    SolveWorker warmWorker(std::move(*warm));
+    waitIdle(warmWorker);
+    const auto shown = warmWorker.latest();
+    EXPECT_TRUE(shown->fromCache);
+    EXPECT_TRUE(shown->converged);
+    EXPECT_EQ(shown->iteration, solved->iteration);
+    EXPECT_EQ(shown->radiosity, solved->radiosity);
+    EXPECT_EQ(shown->gathered, solved->gathered);
+    EXPECT_STREQ(warmWorker.transportKind(), "matrix");
 }
 
 }  // namespace

@@ -7,9 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <string>
-
-#include <unistd.h>
+#include <regex>
 #include <string>
 
 #include <unistd.h>
@@ -299,6 +297,50 @@ TEST(ViewCli, RefusedEditSaysWhyAndExitsTwo) {
     EXPECT_EQ(run.status, 2) << run.output;
     EXPECT_NE(run.output.find("edit refused"), std::string::npos) << run.output;
     EXPECT_NE(run.output.find("white"), std::string::npos) << run.output;
+}
+
+// The window opens before F is made: the first frame (logged with what it shows) is drawn while
+// the view factors are built, before the build's closing line; the converged frame comes after.
+// The Cornell box at 0.05: a few thousand patches, F in a second or more.
+TEST(ViewCli, FirstFrameComesWhileTheViewFactorsAreMade) {
+    const std::string scene = test::assetPath("scenes/cornell_box.gltf") + " --subdivide 0.05";
+    const RunResult run = runView(scene + kSize + " --frames 2 --backend cpu");
+    DAISY_VIEW_OR_SKIP(run);
+    ASSERT_EQ(run.status, 0) << run.output;
+    const std::size_t first = run.output.find("view: first frame ");
+    const std::size_t built = run.output.find(" non-zeros in ");  // "view factors: N non-zeros in"
+    const std::size_t converged = run.output.find("view: first converged frame ");
+    ASSERT_NE(first, std::string::npos) << run.output;
+    ASSERT_NE(built, std::string::npos) << run.output;
+    ASSERT_NE(converged, std::string::npos) << run.output;
+    EXPECT_LT(first, built) << run.output;
+    EXPECT_LT(built, converged) << run.output;
+    const std::string line = run.output.substr(first, run.output.find('\n', first) - first);
+    // The emission, or already the emitters' direct light (shadow rays, no F).
+    EXPECT_NE(line.find(" while the view factors are made"), std::string::npos) << line;
+}
+
+// A warm open: the second view of the same scene and materials takes the converged solution from
+// the disk cache (no solve) and shows the same picture.
+TEST(ViewCli, AWarmOpenShowsTheCachedSolutionWithoutSolving) {
+    const auto dir = test::testTempDir();
+    const std::string coldPng = (dir / "cold.png").string();
+    const std::string warmPng = (dir / "warm.png").string();
+    const RunResult cold = runView(kScene + kSize + " --frames 2 --screenshot " + coldPng);
+    DAISY_VIEW_OR_SKIP(cold);
+    ASSERT_EQ(cold.status, 0) << cold.output;
+    const std::regex solved("solve: [0-9]+ iterations");
+    EXPECT_TRUE(std::regex_search(cold.output, solved)) << cold.output;
+    const RunResult warm = runView(kScene + kSize + " --frames 2 --screenshot " + warmPng);
+    ASSERT_EQ(warm.status, 0) << warm.output;
+    EXPECT_NE(warm.output.find("solve: the converged solution from the cache"), std::string::npos)
+        << warm.output;
+    EXPECT_FALSE(std::regex_search(warm.output, solved)) << warm.output;
+    EXPECT_NE(warm.output.find("view: first converged frame"), std::string::npos) << warm.output;
+    auto a = readPng(coldPng);
+    auto b = readPng(warmPng);
+    ASSERT_TRUE(a && b);
+    EXPECT_EQ(a->pixels, b->pixels);
 }
 
 TEST(ViewCli, NoDisplayFailsBeforeTheViewFactors) {
