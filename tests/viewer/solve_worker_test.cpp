@@ -48,6 +48,18 @@ void waitIdle(const SolveWorker& worker) {
     ASSERT_TRUE(worker.idle()) << "the worker did not finish within 30 s";
 }
 
+// The snapshot shows what `direct` (a session solved directly) holds, to 1e-5 of the largest.
+void expectSameChannels(const DisplaySnapshot& snapshot, const Session& direct) {
+    const std::vector<float> expected = direct.patchChannels(true);
+    ASSERT_EQ(snapshot.patchValues.size(), expected.size());
+    double worst = 0, largest = 0;
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+        worst = std::max(worst, double(std::abs(snapshot.patchValues[k] - expected[k])));
+        largest = std::max(largest, double(std::abs(expected[k])));
+    }
+    EXPECT_LT(worst, 1e-5 * largest);
+}
+
 TEST(SolveWorker, EditsCancelledByNewerOnesConvergeToTheDirectSolve) {
     const Scene scene = room();
     const Material green = withReflectance(scene.materials[0], {0.1, 0.8, 0.1});
@@ -64,14 +76,7 @@ TEST(SolveWorker, EditsCancelledByNewerOnesConvergeToTheDirectSolve) {
     EXPECT_EQ(snapshot->refusedEdits, 0);
 
     const Session direct = solvedRoom({{0, green}, {2, dark}});
-    const std::vector<float> expected = direct.patchChannels(true);
-    ASSERT_EQ(snapshot->patchValues.size(), expected.size());
-    double worst = 0, largest = 0;
-    for (std::size_t k = 0; k < expected.size(); ++k) {
-        worst = std::max(worst, double(std::abs(snapshot->patchValues[k] - expected[k])));
-        largest = std::max(largest, double(std::abs(expected[k])));
-    }
-    EXPECT_LT(worst, 1e-5 * largest);
+    expectSameChannels(*snapshot, direct);
 }
 
 TEST(SolveWorker, OneBounceFromEmissionIsOneJacobiStep) {
@@ -194,14 +199,7 @@ TEST(SolveWorker, ARefusedEditStillLetsTheAcceptedEditConverge) {
     EXPECT_TRUE(snapshot->converged);
     EXPECT_FALSE(snapshot->solving);
     const Session direct = solvedRoom({{0, green}});
-    const std::vector<float> expected = direct.patchChannels(true);
-    ASSERT_EQ(snapshot->patchValues.size(), expected.size());
-    double worst = 0, largest = 0;
-    for (std::size_t k = 0; k < expected.size(); ++k) {
-        worst = std::max(worst, double(std::abs(snapshot->patchValues[k] - expected[k])));
-        largest = std::max(largest, double(std::abs(expected[k])));
-    }
-    EXPECT_LT(worst, 1e-5 * largest);
+    expectSameChannels(*snapshot, direct);
 }
 
 // The window opens before F exists: the worker's first snapshot is B = E (building), then it
