@@ -1,13 +1,17 @@
-# daisy_embed_shaders(<target> SHADERS <shaders/name.stage.glsl>... INCLUDE_DIRS <dir>...)
+# daisy_embed_shaders(<target> SHADERS <shaders/name.stage.glsl>...
+#                     [VARIANTS <name.stage>:<variant>...] INCLUDE_DIRS <dir>...)
 # STYLE.md rule 5: compiles each shader with glslangValidator at build time (--target-env
 # vulkan1.2; --depfile, so editing an included src/shared/ header recompiles it), writes the
 # SPIR-V as a uint32_t array (--vn) and adds a generated embedded_shaders.cpp to <target> that
-# defines daisy::embeddedSpirv("name.stage") over all of them (vulkan/pipelines.h). Nothing is
-# read at run time and no .spv is committed.
+# defines daisy::embeddedSpirv("name.stage") over all of them (vulkan/pipelines.h). A variant
+# compiles the same source once more with -DDAISY_<VARIANT> (upper case), served as
+# embeddedSpirv("name.stage/variant"): e.g. form_factors.comp:ray_query is built with
+# -DDAISY_RAY_QUERY, so the build checks every variant. Nothing is read at run time and no .spv
+# is committed.
 find_program(DAISY_GLSLANG_VALIDATOR glslangValidator REQUIRED)
 
 function(daisy_embed_shaders target)
-    cmake_parse_arguments(ARG "" "" "SHADERS;INCLUDE_DIRS" ${ARGN})
+    cmake_parse_arguments(ARG "" "" "SHADERS;VARIANTS;INCLUDE_DIRS" ${ARGN})
     set(out_dir ${CMAKE_CURRENT_BINARY_DIR}/embedded_shaders)
     file(MAKE_DIRECTORY ${out_dir})
     set(include_flags)
@@ -15,6 +19,14 @@ function(daisy_embed_shaders target)
         list(APPEND include_flags -I${dir})
     endforeach()
 
+    foreach(entry ${ARG_VARIANTS})
+        string(REGEX REPLACE ":.*" "" variant_of "${entry}")
+        set(matches ${ARG_SHADERS})
+        list(FILTER matches INCLUDE REGEX "/${variant_of}\\.glsl$")
+        if(NOT matches)
+            message(FATAL_ERROR "${entry}: no shader ${variant_of}.glsl among SHADERS")
+        endif()
+    endforeach()
     set(headers)
     set(includes "")
     set(table "")
@@ -25,19 +37,41 @@ function(daisy_embed_shaders target)
         endif()
         set(base ${CMAKE_MATCH_1})
         set(stage ${CMAKE_MATCH_2})
-        set(variable kSpirv_${base}_${stage})
-        set(header ${out_dir}/${base}.${stage}.spv.h)
-        add_custom_command(
-            OUTPUT ${header}
-            COMMAND ${DAISY_GLSLANG_VALIDATOR} --quiet --target-env vulkan1.2 -S ${stage}
-                    ${include_flags} --depfile ${header}.d --vn ${variable} -o ${header} ${shader}
-            MAIN_DEPENDENCY ${shader}
-            DEPFILE ${header}.d
-            COMMENT "glslangValidator ${file_name}"
-            VERBATIM)
-        list(APPEND headers ${header})
-        string(APPEND includes "#include \"${base}.${stage}.spv.h\"\n")
-        string(APPEND table "    {\"${base}.${stage}\", ${variable}},\n")
+        # "" (the plain build) and this shader's variants.
+        set(variants "")
+        foreach(entry ${ARG_VARIANTS})
+            if(NOT entry MATCHES "^([a-z0-9_]+\\.[a-z]+):([a-z0-9_]+)$")
+                message(FATAL_ERROR "${entry}: variants are <name.stage>:<variant>")
+            endif()
+            if(CMAKE_MATCH_1 STREQUAL "${base}.${stage}")
+                list(APPEND variants ${CMAKE_MATCH_2})
+            endif()
+        endforeach()
+        foreach(variant "" ${variants})
+            if(variant STREQUAL "")
+                set(name ${base}.${stage})
+                set(variable kSpirv_${base}_${stage})
+                set(define_flags)
+            else()
+                set(name ${base}.${stage}/${variant})
+                set(variable kSpirv_${base}_${stage}_${variant})
+                string(TOUPPER ${variant} macro)
+                set(define_flags -DDAISY_${macro})
+            endif()
+            set(header ${out_dir}/${variable}.spv.h)
+            add_custom_command(
+                OUTPUT ${header}
+                COMMAND ${DAISY_GLSLANG_VALIDATOR} --quiet --target-env vulkan1.2 -S ${stage}
+                        ${include_flags} ${define_flags} --depfile ${header}.d --vn ${variable}
+                        -o ${header} ${shader}
+                MAIN_DEPENDENCY ${shader}
+                DEPFILE ${header}.d
+                COMMENT "glslangValidator ${name}"
+                VERBATIM)
+            list(APPEND headers ${header})
+            string(APPEND includes "#include \"${variable}.spv.h\"\n")
+            string(APPEND table "    {\"${name}\", ${variable}},\n")
+        endforeach()
     endforeach()
 
     set(source ${out_dir}/embedded_shaders.cpp)

@@ -42,7 +42,10 @@ done
 if [[ $docGiven == 0 && $quick == 0 ]]; then doc="$root/docs/performance.md"; fi
 if [[ -n $doc && ! -f $doc ]]; then echo "bench_all: no document $doc" >&2; exit 2; fi
 daisy="$build/daisy"
-for tool in "$daisy" "$build/bench_formfactors"; do
+tools=("$daisy")
+# Only the view-factor sections run bench_formfactors.
+[[ ",$only," == *,view-factors,* || ",$only," == *,family,* ]] && tools+=("$build/bench_formfactors")
+for tool in "${tools[@]}"; do
     [[ -x $tool || $dry == 1 ]] || { echo "bench_all: $tool not built" >&2; exit 2; }
 done
 [[ -x /usr/bin/time ]] || { echo "bench_all: /usr/bin/time missing (apt-get install time)" >&2; exit 2; }
@@ -56,7 +59,7 @@ if [[ $quick == 1 ]]; then
     mainArgs=(--width 160)
     vfScenes=("$family/blacklight_small.gltf" "$family/open_small.gltf")
     familyArgs=(--small)
-    gpuScene="$family/blacklight_small.gltf"
+    gpuScenes=("$family/blacklight_small.gltf")
     viewArgs=(--width 320 --height 240)
     idleFrames=20
     posterEdit='light.reflectance=rgb(0.2,0.6,0.9)'
@@ -69,7 +72,7 @@ else
     mainArgs=()
     vfScenes=("$scenes/blacklight_box.gltf" "$family/blender_cornell.gltf")
     familyArgs=()
-    gpuScene="$scenes/blacklight_box.gltf"
+    gpuScenes=("$scenes/blacklight_box.gltf" "$family/blender_cornell.gltf")
     viewArgs=(--width 1280 --height 720)
     idleFrames=300
     posterEdit='poster_white.reflectance=rgb(0.2,0.6,0.9)'
@@ -79,7 +82,10 @@ else
 fi
 wallEdit='white.reflectance=rgb(0.5,0.5,0.5)'
 # Mesa's lavapipe manifest: lvp_icd.json from Mesa 25, lvp_icd.<arch>.json before.
-lavapipe=$(ls /usr/share/vulkan/icd.d/lvp_icd.json /usr/share/vulkan/icd.d/lvp_icd.*.json 2>/dev/null | head -1)
+lavapipe=""
+for manifest in /usr/share/vulkan/icd.d/lvp_icd.json /usr/share/vulkan/icd.d/lvp_icd.*.json; do
+    [[ -z $lavapipe && -f $manifest ]] && lavapipe=$manifest
+done
 
 work="$(mktemp -d "${TMPDIR:-/tmp}/bench_all.XXXXXX")"
 trap 'rm -rf "$work"' EXIT
@@ -297,38 +303,62 @@ section_solve() {
 }
 
 section_gpu() {
-    local backend vk=()
+    local vk=()
     [[ -f $lavapipe ]] && vk=(VK_ICD_FILENAMES="$lavapipe")
     local haveCuda=0
     if command -v nvidia-smi >/dev/null 2>&1 && nvidia-smi -L >/dev/null 2>&1; then haveCuda=1; fi
-    local backends=(cpu vulkan)
-    [[ $haveCuda == 1 ]] && backends+=(cuda)
-    for backend in "${backends[@]}"; do
-        run "gpu-$backend" env "${vk[@]}" XDG_CACHE_HOME="$cache" "$daisy" formfactors "$(rel "$gpuScene")" \
-            --backend "$backend" --no-cache --verbose -o "$work/F-$backend.mtx"
-        [[ $dry == 1 ]] || rm -f "$work/F-$backend.mtx"
+    # Configurations: the backend and, for vulkan, how it traces shadow rays (--vulkan-rays).
+    local configs=(cpu vulkan:software vulkan:query)
+    [[ $haveCuda == 1 ]] && configs+=(cuda)
+    local scene config backend name i
+    # Interleaved rounds: each round runs every configuration on every scene once, so the
+    # ratios compare runs made under the same load.
+    for ((i = 1; i <= rounds; i++)); do
+        for scene in "${gpuScenes[@]}"; do
+            for config in "${configs[@]}"; do
+                backend=${config%%:*}
+                local extra=()
+                [[ $config == *:* ]] && extra=(--vulkan-rays "${config#*:}")
+                name="gpu-$(basename "$scene" .gltf)-${config/:/-}-$i"
+                run "$name" env "${vk[@]}" XDG_CACHE_HOME="$cache" "$daisy" formfactors "$(rel "$scene")" \
+                    --backend "$backend" "${extra[@]}" --no-cache --verbose -o "$work/F.mtx"
+                [[ $dry == 1 ]] || rm -f "$work/F.mtx"
+            done
+        done
     done
     [[ $dry == 1 ]] && return 0
     {
-        echo "| backend | device | view factors | visibility pass | factors pass | traced pairs | non-zeros | process wall (user) | / cpu |"
-        echo "|---|---|---|---|---|---|---|---|---|"
-        local cpuSeconds=""
-        for backend in "${backends[@]}"; do
-            local log="$work/gpu-$backend.log" vf vis fac traced nnz device ratio=""
-            vf=$(seconds "$(sed -n 's/.*view factors: .* non-zeros in \(.*\) on .*/\1/p' "$log" | head -n 1)")
-            nnz=$(sed -n 's/.*view factors: \([0-9,]*\) non-zeros in.*/\1/p' "$log" | head -n 1)
-            traced=$(sed -n 's/.*  traced: \([0-9,]*\) pairs.*/\1/p' "$log" | head -n 1)
-            vis=$(sed -n "s/.*traced pairs' visibility in \([^,]*\),.*/\1/p" "$log" | head -n 1)
-            fac=$(sed -n 's/.*every clear pair in \([^(]*\) (.*/\1/p' "$log" | head -n 1)
-            device=$(grep -m1 -oiE "device '[^']*'" "$log" | sed "s/device //I; s/'//g" || true)
-            [[ $backend == cpu ]] && { device="Embree, $(nproc) threads"; cpuSeconds=$vf; }
-            [[ $backend != cpu && -n $cpuSeconds ]] &&
-                ratio=$(awk -v a="$vf" -v b="$cpuSeconds" 'BEGIN { if (b > 0) printf "**%.1fx**", a / b }')
-            echo "| $backend | ${device:--} | **$vf s** | ${vis:-} | ${fac% } | ${traced:--} | ${nnz:--} | $(field "gpu-$backend" 1) s ($(field "gpu-$backend" 2) s) | $ratio |"
+        echo "| scene | backend | device | view factors | visibility pass | factors pass | traced pairs | non-zeros | process user | / cpu |"
+        echo "|---|---|---|---|---|---|---|---|---|---|"
+        for scene in "${gpuScenes[@]}"; do
+            for config in "${configs[@]}"; do
+                local vfs=() viss=() facs=() users=() ratios=() traced="" nnz="" device="" log cpuLog vf
+                for ((i = 1; i <= rounds; i++)); do
+                    name="gpu-$(basename "$scene" .gltf)-${config/:/-}-$i"
+                    log="$work/$name.log"
+                    vf=$(seconds "$(sed -n 's/.*view factors: .* non-zeros in \(.*\) on .*/\1/p' "$log" | head -n 1)")
+                    vfs+=("$vf")
+                    viss+=("$(seconds "$(sed -n "s/.*traced pairs' visibility in \([^,]*\),.*/\1/p" "$log" | head -n 1)")")
+                    facs+=("$(seconds "$(sed -n 's/.*every clear pair in \([^(]*\) (.*/\1/p' "$log" | head -n 1)")")
+                    users+=("$(field "$name" 2)")
+                    nnz=$(sed -n 's/.*view factors: \([0-9,]*\) non-zeros in.*/\1/p' "$log" | head -n 1)
+                    traced=$(sed -n 's/.*  traced: \([0-9,]*\) pairs.*/\1/p' "$log" | head -n 1)
+                    device=$(grep -m1 -oiE "device '[^']*'" "$log" | sed "s/device //I; s/'//g" || true)
+                    cpuLog="$work/gpu-$(basename "$scene" .gltf)-cpu-$i.log"
+                    ratios+=("$(awk -v a="$vf" -v b="$(seconds "$(sed -n 's/.*view factors: .* non-zeros in \(.*\) on .*/\1/p' "$cpuLog" | head -n 1)")" 'BEGIN { if (b > 0) printf "%.2f", a / b }')")
+                done
+                [[ $config == cpu ]] && device="Embree, $(nproc) threads"
+                local shownName=${config/:/ --vulkan-rays }
+                local vis fac ratio=""
+                vis=$([[ $config == cpu ]] || FMT=%.1f stats "${viss[@]}")
+                fac=$([[ $config == cpu ]] || FMT=%.1f stats "${facs[@]}")
+                [[ $config == cpu ]] || ratio="**$(stats "${ratios[@]}")x**"
+                echo "| $(rel "$scene" | sed 's|assets/scenes/||') | $shownName | ${device:--} | **$(FMT=%.1f stats "${vfs[@]}") s** | ${vis:+$vis s} | ${fac:+$fac s} | ${traced:--} | ${nnz:--} | $(FMT=%.1f stats "${users[@]}") s | $ratio |"
+            done
         done
-        [[ $haveCuda == 1 ]] || echo "| cuda | - | not run: no NVIDIA device | | | | | | |"
-        stamp "$([[ ${#vk[@]} -gt 0 ]] && echo "VK_ICD_FILENAMES=$lavapipe ")/usr/bin/time $(shown "$daisy" formfactors "$(rel "$gpuScene")") --backend cpu|vulkan$([[ $haveCuda == 1 ]] && echo '|cuda') --no-cache --verbose -o \$TMP/F.mtx" \
-              "(one run each; the view factors from the \"view factors:\" line, the passes from vulkan's --verbose line; the process wall includes writing F)"
+        [[ $haveCuda == 1 ]] || echo "| | cuda | - | not run: no NVIDIA device | | | | | | |"
+        stamp "$([[ ${#vk[@]} -gt 0 ]] && echo "VK_ICD_FILENAMES=$lavapipe ")/usr/bin/time $(shown "$daisy" formfactors) SCENE --backend cpu|vulkan$([[ $haveCuda == 1 ]] && echo '|cuda') [--vulkan-rays software|query] --no-cache --verbose -o \$TMP/F.mtx" \
+              "($rounds interleaved rounds of every row on both scenes, median (range); the view factors from the \"view factors:\" line, the passes from vulkan's --verbose line; / cpu: the median of each round's ratio to that round's cpu run)"
     } | table gpu
 }
 

@@ -6,7 +6,9 @@
 # Prints the device; runs the cuda tests and then the vulkan and backend tests with
 # DAISY_REQUIRE_CUDA=1 DAISY_REQUIRE_VULKAN=1 (a skip is a failure); validates cuda against the
 # reference backend on the demo scenes; times the 7,712-patch black-light box matrix on cuda,
-# vulkan (on the NVIDIA Vulkan driver when there is one) and cpu; writes all of it, and a summary,
+# vulkan (on the NVIDIA Vulkan driver when there is one: its ray queries, and the BVH walk) and
+# cpu; validates the vulkan backend's ray queries against the reference and cuda backends;
+# writes all of it, and a summary,
 # to one report file. Each step runs under a time limit and no step starts after 400 s, so the
 # whole check ends within 8 minutes. Exit status: 0 every step passed, 1 some step failed or
 # timed out, 2 no build or no usable CUDA device (the report says which).
@@ -60,7 +62,7 @@ step() {
 timeF() {
     local backend=$1
     shift
-    step "time the 7,712-patch matrix on $backend" 240 \
+    step "time the 7,712-patch matrix on $backend${*:+ $*}" 240 \
         "$daisy" formfactors assets/scenes/blacklight_box.gltf --backend "$backend" --no-cache \
         -o "$work/F_$backend.mtx" "$@"
     rm -f "$work/F_$backend.mtx"
@@ -111,7 +113,18 @@ step "validate cuda against reference: cornell_box, 3,800 patches" 90 \
     --against reference
 timeF cuda --verbose
 timeF cpu
-timeF vulkan "${vulkanDevice[@]}" --verbose
+timeF vulkan "${vulkanDevice[@]}" --vulkan-rays software --verbose
+# The ray-query variant (docs/backends.md, "Ray queries"): `auto` picks it on a GPU, the NVIDIA
+# Vulkan driver's hardware ray tracing; on lavapipe it is forced here to be checked all the same.
+for scene in cornell_box colored_lights furnace_box; do
+    step "validate vulkan ray queries against reference: $scene" 90 \
+        "$daisy" validate "assets/scenes/$scene.gltf" --backend vulkan "${vulkanDevice[@]}" \
+        --vulkan-rays query --against reference
+done
+step "validate vulkan ray queries against cuda: cornell_box, 3,800 patches" 150 \
+    "$daisy" validate assets/scenes/cornell_box.gltf --subdivide 0.0492 --backend vulkan \
+    --vulkan-rays query --against cuda
+timeF vulkan "${vulkanDevice[@]}" --vulkan-rays query --verbose
 step "validate cuda against reference: blacklight_box, 7,712 patches" 150 \
     "$daisy" validate assets/scenes/blacklight_box.gltf --backend cuda --against reference
 step "vulkan and backend tests" 150 "$tests" \

@@ -6,6 +6,7 @@
 #include "core/log.h"
 #include "core/strings.h"
 #include "geometry/patch_mesh.h"
+#include "pipeline/backend_registry.h"
 #include "radiosity/matrix_estimate.h"
 
 namespace daisy::app {
@@ -52,6 +53,16 @@ std::string lightList(const Scene& scene) {
     return out;
 }
 
+// "vulkan: device 'NAME' (cpu); shadow rays: ray queries (VK_KHR_ray_query)": the backend F
+// would be built with, made here to ask (a GPU backend opens its device), or why it cannot run.
+std::string backendLine(const SessionSettings& settings) {
+    const std::string name = resolveBackendName(settings.backend);
+    auto backend = makeBackend(name, backendOptionsOf(settings));
+    if (!backend) return concat(name, ": unavailable: ", backend.error().message);
+    const std::string description = (*backend)->describe();
+    return description.empty() ? name : concat(name, ": ", description);
+}
+
 int runInfo(const CommonOptions& options) {
     // The same patches `render` makes: its automatic size unless --subdivide says otherwise.
     auto session = openSession(options, PatchSizeDefault::Automatic);
@@ -95,6 +106,7 @@ int runInfo(const CommonOptions& options) {
                     formatNumber(100.0 * matrix.facingFraction, 3), "% of pairs face each other",
                     matrix.sampled ? ", sampled" : "", "), ",
                     formatBytes(static_cast<double>(matrix.matrixBytes)), " as CSR"));
+    printRow("backend", backendLine(session->settings()));
     const auto& cacheDirectory = session->settings().cacheDirectory;
     printRow(
         "cached F",

@@ -72,6 +72,12 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
         ->capture_default_str();
     command.add_option("--device", options.device,
                        "GPU for vulkan/cuda: index or part of its name");
+    command
+        .add_option("--vulkan-rays", options.vulkanRays,
+                    "How the vulkan backend traces shadow rays: ray queries where the device "
+                    "has them (auto), always (query), or the BVH walk in the shader (software)")
+        ->check(CLI::IsMember({"auto", "query", "software"}))
+        ->capture_default_str();
     command.add_option("--method", options.method, "Form-factor method")
         ->check(CLI::IsMember(formFactorMethodNames()))
         ->capture_default_str();

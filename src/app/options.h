@@ -20,6 +20,7 @@ struct CommonOptions {
     std::string scenePath;
     std::string backend = "auto";  // "auto" or a name of pipeline/backend_registry.h
     std::string device;  // --device: GPU index or part of its name; empty = first suitable
+    std::string vulkanRays = "auto";  // --vulkan-rays: auto | query | software
     // The form-factor settings' names and defaults are the library's (radiosity/form_factors.h).
     std::string method = formFactorMethodName(FormFactorSettings{}.method);
     int quadratureLevel = FormFactorSettings{}.quadratureLevel;  // L: 4^L points per patch

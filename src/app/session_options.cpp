@@ -11,6 +11,9 @@ SessionSettings sessionSettingsFrom(const CommonOptions& options, PatchSizeDefau
     settings.load = options.sceneLoadOptions();
     settings.backend = options.backend;
     settings.device = options.device;
+    settings.vulkanRays = options.vulkanRays == "query" ? VulkanRays::Query
+        : options.vulkanRays == "software"              ? VulkanRays::Software
+                                                        : VulkanRays::Auto;  // CLI11 checked it
     parseFormFactorMethod(options.method, settings.formFactors.method);  // CLI11 checked it
     settings.formFactors.quadratureLevel = options.quadratureLevel;
     settings.formFactors.raysPerPair = options.raysPerPair;

@@ -21,10 +21,19 @@ public:
     // Builds F for the mesh; errors are bad settings or input (exit status 2 in the app).
     virtual Expected<FormFactorResult> buildFormFactors(const PatchMesh& mesh,
                                                         const FormFactorSettings& settings) = 0;
+    // One line on the device and how it traces rays, for `daisy info` (empty: nothing to say).
+    virtual std::string describe() const { return {}; }
 };
+
+// How the vulkan backend traces shadow segments (--vulkan-rays): ray queries through the
+// device's acceleration structures on a GPU that has them, else the flat-BVH walk in the shader
+// (Auto; a CPU device's ray queries are slower than the walk); ray queries or an error
+// (Query); the walk (Software).
+enum class VulkanRays { Auto, Query, Software };
 
 struct BackendOptions {
     std::string device;  // --device: GPU index or part of its name; empty = the first suitable
+    VulkanRays vulkanRays = VulkanRays::Auto;
 };
 
 std::unique_ptr<Backend> makeCpuBackend();

@@ -377,7 +377,7 @@ std::vector<SweepSetting> SettingsSweep::settings() const {
     const std::string defaultBackend = resolveBackendName(base.backend);
     for (const std::string& backend : backendNames()) {
         if (backend == "auto" || backend == defaultBackend || quick) continue;
-        if (!makeBackend(backend, BackendOptions{base.device})) continue;  // not available here
+        if (!makeBackend(backend, backendOptionsOf(base))) continue;  // not available here
         add("backend", backend, [&](SweepSetting& s) { s.session.backend = backend; });
     }
     return rows;

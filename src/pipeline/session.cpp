@@ -249,6 +249,13 @@ Expected<void> prepare(Session::State& s) {
 
 }  // namespace
 
+BackendOptions backendOptionsOf(const SessionSettings& settings) {
+    BackendOptions options;
+    options.device = settings.device;
+    options.vulkanRays = settings.vulkanRays;
+    return options;
+}
+
 Session::Session(std::unique_ptr<State> state) : state_(std::move(state)) {}
 Session::Session(Session&&) noexcept = default;
 Session& Session::operator=(Session&&) noexcept = default;
@@ -416,7 +423,7 @@ Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& 
     }
     std::shared_ptr<Backend> backend = s.settings.backendInstance;
     if (!backend || backendName != s.settings.backend) {
-        auto made = makeBackend(backendName, BackendOptions{s.settings.device});
+        auto made = makeBackend(backendName, backendOptionsOf(s.settings));
         if (!made) return Error{concat("--backend ", backendName, ": ", made.error().message)};
         backend = std::move(*made);
     }

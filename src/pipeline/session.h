@@ -50,6 +50,7 @@ struct SessionSettings {
     SceneLoadOptions load;
     std::string backend = "auto";  // a name of pipeline/backend_registry.h
     std::string device;  // --device
+    VulkanRays vulkanRays = VulkanRays::Auto;  // --vulkan-rays
     // A backend already made (makeBackend) to build F with instead of making one from `backend`:
     // sessions that share it share its device (a Vulkan device takes ~0.6 s to create on
     // lavapipe). `backend` must still name it (the cache key's family comes from the name).
@@ -67,6 +68,9 @@ struct SessionSettings {
     uint64_t maxMemoryBytes = UINT64_MAX;  // refuse patches and F needing more
     bool logStages = true;  // log the stage lines ("view factors: ...", "solve: ...")
 };
+
+// The options a backend made for these settings gets: the device and the vulkan backend's rays.
+BackendOptions backendOptionsOf(const SessionSettings& settings);
 
 // Where F came from and what building it did.
 struct FormFactorReport {

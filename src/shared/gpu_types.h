@@ -56,7 +56,7 @@ struct PairIndex {
 
 // Push constants of the pair kernel (shaders/form_factors.comp.glsl) and the arguments the CPU
 // reference backend passes the same way. Device addresses are Vulkan buffer device addresses
-// (GLSL: GL_EXT_shader_explicit_arithmetic_types_int64 and GL_EXT_buffer_reference). 72 bytes.
+// (GLSL: GL_EXT_shader_explicit_arithmetic_types_int64 and GL_EXT_buffer_reference). 80 bytes.
 struct PairKernelParams {
     uint64_t patches;  // address of PatchGeometry[patchCount]
     uint64_t nodes;  // address of BvhNode[]
@@ -71,6 +71,9 @@ struct PairKernelParams {
     uint seed;  // 32-bit seed of the per-pair sample sequence (rng.h pairSeed)
     float clearance;  // relative end clearance of shadow segments (pairClearance, visibility.h)
     uint pad0;  // padding to a multiple of 8 bytes; must be ignored
+    // device address of the top-level acceleration structure over the patches' triangles (the
+    // vulkan backend's ray-query variant, GL_EXT_ray_query); 0 where the BVH walk traces
+    uint64_t scene;
 };
 
 // Builds a PatchGeometry from its corners (counter-clockwise about the front side).
@@ -125,9 +128,10 @@ static_assert(offsetof(daisy::shared::BvhNode, count) == 28);
 static_assert(sizeof(daisy::shared::BvhTriangle) == 40);
 static_assert(offsetof(daisy::shared::BvhTriangle, patchIndex) == 36);
 static_assert(sizeof(daisy::shared::PairIndex) == 8);
-static_assert(sizeof(daisy::shared::PairKernelParams) == 72);
+static_assert(sizeof(daisy::shared::PairKernelParams) == 80);
 static_assert(offsetof(daisy::shared::PairKernelParams, pairOffset) == 40);
 static_assert(offsetof(daisy::shared::PairKernelParams, clearance) == 64);
+static_assert(offsetof(daisy::shared::PairKernelParams, scene) == 72);
 static_assert(offsetof(daisy::shared::PairFactors, fji) == 4);
 #endif
 

@@ -75,6 +75,11 @@ DAISY_HD float kernelWeightedVisibility(float seen, float total, int open, int r
 // segment open when no triangle blocks it for t in (DAISY_SEGMENT_MARGIN, 1 - DAISY_SEGMENT_MARGIN)
 // (the cpu backend's span). pairSeedValue = pairSeed(i, j, seed) (rng.h). The cpu backend passes
 // pairs as i < j; swapping i and j traces the same segments reversed (equal up to rounding).
+// The any-hit test is the flat BVH walk (bvhOccluded over nodes and triangles) unless the
+// including shader defines DAISY_SEGMENT_OCCLUDED(org, dir, tmin, tmax) first: the ray-query
+// variant of shaders/form_factors.comp.glsl traces the device's acceleration structure over
+// the same triangles instead (nodes and triangles are then unused), with the same segments,
+// span and weights.
 DAISY_HD float pairVisibility(uint pairSeedValue, int rays, DAISY_IN(PatchGeometry) i,
                               DAISY_IN(PatchGeometry) j, float clearance, BvhNodeBuffer nodes,
                               BvhTriangleBuffer triangles) {
@@ -87,8 +92,13 @@ DAISY_HD float pairVisibility(uint pairSeedValue, int rays, DAISY_IN(PatchGeomet
         float weight = 0.0f;
         bool blocked = false;
         if (shadowSegment(pairSeedValue, k, rays, i, j, clearance, origin, end, weight)) {
+#ifdef DAISY_SEGMENT_OCCLUDED
+            blocked = DAISY_SEGMENT_OCCLUDED(origin, end - origin, DAISY_SEGMENT_MARGIN,
+                                             1.0f - DAISY_SEGMENT_MARGIN);
+#else
             blocked = bvhOccluded(origin, end - origin, DAISY_SEGMENT_MARGIN,
                                   1.0f - DAISY_SEGMENT_MARGIN, nodes, triangles);
+#endif
         }
         total += weight;
         if (!blocked) {

@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <vector>
 
 #include "core/log.h"
@@ -96,6 +97,12 @@ bool hasDeviceExtension(VkPhysicalDevice device, const char* name) {
     return false;
 }
 
+// The device extensions ray queries need: the two named ones, and deferred host operations,
+// which VK_KHR_acceleration_structure requires.
+constexpr const char* kRayQueryExtensions[] = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
+                                               VK_KHR_RAY_QUERY_EXTENSION_NAME,
+                                               VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
+
 // True when `device` has the compute backend's features.
 bool hasComputeFeatures(VkPhysicalDevice device) {
     VkPhysicalDeviceVulkan12Features features12{
@@ -129,6 +136,16 @@ std::string checkDevice(VkPhysicalDevice device, const DeviceRequirements& requi
     }
     if (requirements.presentSurface) {
         need(hasDeviceExtension(device, VK_KHR_SWAPCHAIN_EXTENSION_NAME), "VK_KHR_swapchain");
+    }
+    if (requirements.rayQuery) {
+        bool extensions = true;
+        for (const char* extension : kRayQueryExtensions) {
+            const bool present = hasDeviceExtension(device, extension);
+            need(present, extension);
+            extensions = extensions && present;
+        }
+        if (extensions)
+            need(hasRayQuery(device), "the accelerationStructure and rayQuery features");
     }
     uint32_t familyCount = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(device, &familyCount, nullptr);
@@ -271,6 +288,25 @@ Expected<uint32_t> selectDevice(const std::vector<VulkanDeviceInfo>& infos,
 
 }  // namespace
 
+bool hasRayQuery(VkPhysicalDevice device) {
+    for (const char* extension : kRayQueryExtensions) {
+        if (!hasDeviceExtension(device, extension)) return false;
+    }
+    VkPhysicalDeviceRayQueryFeaturesKHR rayQuery{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR acceleration{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+    acceleration.pNext = &rayQuery;
+    VkPhysicalDeviceVulkan12Features features12{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+    features12.pNext = &acceleration;
+    VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    features.pNext = &features12;
+    vkGetPhysicalDeviceFeatures2(device, &features);
+    return features12.bufferDeviceAddress && acceleration.accelerationStructure &&
+        rayQuery.rayQuery;
+}
+
 const char* deviceTypeName(VkPhysicalDeviceType type) {
     switch (type) {
         case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
@@ -304,9 +340,12 @@ Expected<VkPhysicalDevice> pickPhysicalDevice(VkInstance instance, const std::st
     const std::vector<VkPhysicalDevice> devices = physicalDevices(instance);
     const std::vector<VulkanDeviceInfo> infos = describe(devices, requirements);
     if (infos.empty()) return Error{kNoDevice};
-    auto chosen = selectDevice(
-        infos, selector,
-        requirements.presentSurface ? "the viewer (graphics and present)" : "the compute backend");
+    auto chosen =
+        selectDevice(infos, selector,
+                     requirements.presentSurface ? "the viewer (graphics and present)"
+                         : requirements.rayQuery
+                         ? "the compute backend with ray queries, as --vulkan-rays query asks"
+                         : "the compute backend");
     if (!chosen) return chosen.error();
     return devices[*chosen];
 }
@@ -320,16 +359,38 @@ Expected<VulkanContext> createDevice(VkInstance instance, VkPhysicalDevice physi
     vkGetPhysicalDeviceProperties(context.physicalDevice, &context.properties);
     vkGetPhysicalDeviceMemoryProperties(context.physicalDevice, &context.memory);
     context.computeFeatures = hasComputeFeatures(context.physicalDevice);
+    context.rayQuery =
+        requirements.compute && context.computeFeatures && hasRayQuery(context.physicalDevice);
+    // The instance is Vulkan 1.2, so maxMemoryAllocationSize (1.1) bounds one buffer; 1.3's
+    // maxBufferSize is not visible to it.
+    VkPhysicalDeviceMaintenance3Properties maintenance3{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+    context.accelerationProperties.sType =
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_PROPERTIES_KHR;
+    if (context.rayQuery) maintenance3.pNext = &context.accelerationProperties;
+    VkPhysicalDeviceProperties2 properties2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    properties2.pNext = &maintenance3;
+    vkGetPhysicalDeviceProperties2(context.physicalDevice, &properties2);
+    context.accelerationProperties.pNext = nullptr;
+    context.maxBufferBytes = maintenance3.maxMemoryAllocationSize;
 
     const float priority = 1.0f;
     VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     queueInfo.queueFamilyIndex = context.queueFamily;
     queueInfo.queueCount = 1;
     queueInfo.pQueuePriorities = &priority;
+    VkPhysicalDeviceRayQueryFeaturesKHR rayQuery{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_RAY_QUERY_FEATURES_KHR};
+    rayQuery.rayQuery = VK_TRUE;
+    VkPhysicalDeviceAccelerationStructureFeaturesKHR acceleration{
+        VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ACCELERATION_STRUCTURE_FEATURES_KHR};
+    acceleration.pNext = &rayQuery;
+    acceleration.accelerationStructure = VK_TRUE;
     VkPhysicalDeviceVulkan12Features features12{
         VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     features12.bufferDeviceAddress = context.computeFeatures;
     features12.scalarBlockLayout = context.computeFeatures;
+    if (context.rayQuery) features12.pNext = &acceleration;
     VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
     features.pNext = &features12;
     features.features.shaderInt64 = context.computeFeatures;
@@ -337,11 +398,14 @@ Expected<VulkanContext> createDevice(VkInstance instance, VkPhysicalDevice physi
     deviceInfo.pNext = &features;
     deviceInfo.queueCreateInfoCount = 1;
     deviceInfo.pQueueCreateInfos = &queueInfo;
-    const char* swapchainExtension = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
-    if (requirements.presentSurface) {
-        deviceInfo.enabledExtensionCount = 1;
-        deviceInfo.ppEnabledExtensionNames = &swapchainExtension;
+    std::vector<const char*> extensions;
+    if (requirements.presentSurface) extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    if (context.rayQuery) {
+        extensions.insert(extensions.end(), std::begin(kRayQueryExtensions),
+                          std::end(kRayQueryExtensions));
     }
+    deviceInfo.enabledExtensionCount = uint32_t(extensions.size());
+    deviceInfo.ppEnabledExtensionNames = extensions.data();
     const VkResult result =
         vkCreateDevice(context.physicalDevice, &deviceInfo, nullptr, &context.device);
     if (result != VK_SUCCESS) {
@@ -365,10 +429,11 @@ Expected<VulkanContext> createDevice(VkInstance instance, VkPhysicalDevice physi
     return context;
 }
 
-Expected<VulkanContext> createContext(const std::string& selector) {
+Expected<VulkanContext> createContext(const std::string& selector, bool rayQuery) {
     auto instance = createInstance();
     if (!instance) return instance.error();
-    const DeviceRequirements requirements;
+    DeviceRequirements requirements;
+    requirements.rayQuery = rayQuery;
     auto physicalDevice = pickPhysicalDevice(*instance, selector, requirements);
     if (!physicalDevice) {
         vkDestroyInstance(*instance, nullptr);

@@ -7,7 +7,9 @@
 // (e.g. Mesa lavapipe). The compute backend requires Vulkan 1.2 with bufferDeviceAddress,
 // scalarBlockLayout and shaderInt64 and a compute queue; the viewer a graphics queue that presents
 // to its surface and VK_KHR_swapchain (the compute features are enabled whenever the device has
-// them). Validation layers load when DAISY_VULKAN_VALIDATION=1 and they are installed.
+// them). Ray queries (VK_KHR_acceleration_structure, VK_KHR_ray_query and what they need) are
+// enabled for compute wherever the device has them, and required by DeviceRequirements::rayQuery.
+// Validation layers load when DAISY_VULKAN_VALIDATION=1 and they are installed.
 #include <volk.h>
 
 #include <cstdint>
@@ -26,6 +28,11 @@ struct VulkanContext {
     VkQueue queue = VK_NULL_HANDLE;  // the requirements' queue (compute; graphics, present)
     uint32_t queueFamily = 0;
     bool computeFeatures = false;  // bufferDeviceAddress, scalarBlockLayout, shaderInt64 enabled
+    // VK_KHR_acceleration_structure and VK_KHR_ray_query enabled (accelerationStructure,
+    // rayQuery), with their VkPhysicalDeviceAccelerationStructurePropertiesKHR
+    bool rayQuery = false;
+    VkPhysicalDeviceAccelerationStructurePropertiesKHR accelerationProperties{};
+    uint64_t maxBufferBytes = 0;  // largest allocation, bytes (maxMemoryAllocationSize)
     VkCommandPool commandPool = VK_NULL_HANDLE;  // resettable command buffers, queueFamily
     VkPhysicalDeviceProperties properties{};  // limits: maxStorageBufferRange, ...
     VkPhysicalDeviceMemoryProperties memory{};
@@ -45,7 +52,12 @@ struct DeviceRequirements {
     bool compute = true;  // the compute backend's features and a compute queue
     bool graphics = false;  // a queue with graphics (with compute too when a family has both)
     VkSurfaceKHR presentSurface = VK_NULL_HANDLE;  // the queue presents to it; VK_KHR_swapchain
+    bool rayQuery = false;  // acceleration structures and ray queries (--vulkan-rays query)
 };
+
+// True when `device` offers acceleration structures and ray queries to compute shaders, with
+// buffer device addresses (what the vulkan backend's ray-query variant needs).
+bool hasRayQuery(VkPhysicalDevice device);
 
 // "discrete", "integrated", "virtual", "cpu" or "other".
 const char* deviceTypeName(VkPhysicalDeviceType type);
@@ -69,8 +81,9 @@ Expected<VkPhysicalDevice> pickPhysicalDevice(VkInstance instance, const std::st
 Expected<VulkanContext> createDevice(VkInstance instance, VkPhysicalDevice physicalDevice,
                                      const DeviceRequirements& requirements);
 
-// createInstance + pickPhysicalDevice + createDevice for the headless compute backend.
-Expected<VulkanContext> createContext(const std::string& selector);
+// createInstance + pickPhysicalDevice + createDevice for the headless compute backend, with ray
+// queries required when `rayQuery` is set.
+Expected<VulkanContext> createContext(const std::string& selector, bool rayQuery = false);
 void destroyContext(VulkanContext& context);
 
 // Records commands into a fresh primary command buffer with `record`, submits it and waits. An

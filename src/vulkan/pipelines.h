@@ -19,8 +19,9 @@ struct ComputePipeline {
     uint32_t pushConstantBytes = 0;
 };
 
-// The SPIR-V of shaders/<name>.glsl, e.g. embeddedSpirv("form_factors.comp"), compiled by
-// cmake/Shaders.cmake. Empty when no shader has that name.
+// The SPIR-V of shaders/<name>.glsl, e.g. embeddedSpirv("form_factors.comp"), or of one of its
+// variants, e.g. embeddedSpirv("form_factors.comp/ray_query"), compiled by cmake/Shaders.cmake.
+// Empty when no shader has that name.
 std::span<const uint32_t> embeddedSpirv(std::string_view name);
 
 // A compute pipeline over `spirv` (entry point "main") with a push-constant range of

@@ -4,14 +4,19 @@
 // have a near cell) as the one driver's PairEvaluator. Each pass uploads its pairs, runs
 // shaders/form_factors.comp.glsl over them in dispatches short enough for a display watchdog, and
 // downloads the results, each pass a pipeline specialised to the method, level and mode
-// (docs/backends.md). Every buffer stays within the device's maxStorageBufferRange (128 MiB on
-// lavapipe): batches are sized to it, and a scene whose patch or BVH arrays exceed it is refused.
+// (docs/backends.md). The visibility pass traces its segments with ray queries through
+// acceleration structures over the patches (vulkan/acceleration.h) where the device has them,
+// else by walking the flat BVH in the shader. Every buffer stays within the device's
+// maxStorageBufferRange (128 MiB on lavapipe): batches are sized to it, and a scene whose patch or
+// BVH arrays exceed it is refused.
 #include "vulkan/vulkan_backend.h"
 
 #include <algorithm>
 #include <array>
 #include <map>
+#include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "backend/gpu_pass_plan.h"
@@ -23,6 +28,7 @@
 #include "raycast/flat_bvh.h"
 #include "shared/config.h"
 #include "shared/gpu_types.h"
+#include "vulkan/acceleration.h"
 #include "vulkan/buffers.h"
 #include "vulkan/context.h"
 #include "vulkan/pipelines.h"
@@ -47,10 +53,16 @@ constexpr std::size_t kBatchPairs = std::size_t(1) << 20;
 // the 2-core benchmark machine (docs/performance.md), so a dispatch takes it seconds.
 constexpr uint64_t kDispatchWork = uint64_t(1) << 22;
 
+// How the backend traces: ray queries or the BVH walk, and why (for --verbose and `daisy info`).
+struct RayTracing {
+    bool query = false;
+    std::string description;
+};
+
 class VulkanBackend : public Backend {
 public:
-    VulkanBackend(VulkanContext context, const VulkanBackendLimits& limits)
-        : context_(context), limits_(limits) {}
+    VulkanBackend(VulkanContext context, const VulkanBackendLimits& limits, RayTracing rays)
+        : context_(context), limits_(limits), rays_(std::move(rays)) {}
     ~VulkanBackend() override {
         for (auto& [key, pipeline] : pipelines_)
             destroyComputePipeline(context_, pipeline);
@@ -60,6 +72,11 @@ public:
     VulkanBackend& operator=(const VulkanBackend&) = delete;
 
     std::string name() const override { return "vulkan"; }
+    std::string describe() const override {
+        return concat("device '", context_.properties.deviceName, "' (",
+                      deviceTypeName(context_.properties.deviceType),
+                      "); shadow rays: ", rays_.description);
+    }
 
     Expected<FormFactorResult> buildFormFactors(const PatchMesh& mesh,
                                                 const FormFactorSettings& settings) override;
@@ -71,26 +88,55 @@ private:
         return limits_.storageBufferBytes ? std::min(limits_.storageBufferBytes, device) : device;
     }
 
+    // Largest acceleration-structure buffer: maxMemoryAllocationSize unless a test lowers it.
+    uint64_t accelerationLimit() const {
+        const uint64_t device = context_.maxBufferBytes;
+        return limits_.accelerationBufferBytes ? std::min(limits_.accelerationBufferBytes, device)
+                                               : device;
+    }
+
     Expected<VulkanBuffer> uploadArray(const void* data, std::size_t bytes, const char* what,
                                        std::size_t count);
 
+    // The device addresses of what the kernel reads besides the pairs: the patches, and the
+    // flat BVH or (ray queries) the acceleration structures, into params and owned buffers.
+    Expected<void> uploadScene(const PatchMesh& mesh,
+                               const std::vector<shared::PatchGeometry>& patches,
+                               PairKernelParams& params, std::vector<VulkanBuffer>& owned,
+                               SceneAcceleration& acceleration);
+
     // The pair kernel specialised to (method constant, level, DAISY_PAIR_MODE_*)
-    // (shaders/form_factors.comp.glsl), compiled on first use and kept for the next build.
-    Expected<const ComputePipeline*> pipeline(int method, int level, int mode) {
-        const std::array<int32_t, 3> key{method, level, mode};
+    // (shaders/form_factors.comp.glsl), its ray-query build when `rayQuery`, compiled on first
+    // use and kept for the next build. The visibility pass reads neither method nor level, so
+    // it has one pipeline whatever they are.
+    Expected<const ComputePipeline*> pipeline(int method, int level, int mode, bool rayQuery) {
+        if (mode == DAISY_PAIR_MODE_VISIBILITY) {
+            method = DAISY_METHOD_HYBRID;
+            level = DAISY_DEFAULT_QUADRATURE_LEVEL;
+        }
+        const std::array<int32_t, 3> constants{method, level, mode};
+        const std::tuple key{constants, rayQuery};
         auto found = pipelines_.find(key);
         if (found == pipelines_.end()) {
-            auto created = createComputePipeline(context_, embeddedSpirv("form_factors.comp"),
-                                                 sizeof(PairKernelParams), key);
+            const char* shader = rayQuery ? "form_factors.comp/ray_query" : "form_factors.comp";
+            const Timer timer;
+            auto created = createComputePipeline(context_, embeddedSpirv(shader),
+                                                 sizeof(PairKernelParams), constants);
             if (!created) return created.error();
             found = pipelines_.emplace(key, *created).first;
+            pipelineSeconds_ += timer.seconds();
+            ++pipelinesMade_;
         }
         return &found->second;
     }
 
     VulkanContext context_;
     VulkanBackendLimits limits_;
-    std::map<std::array<int32_t, 3>, ComputePipeline> pipelines_;
+    RayTracing rays_;
+    bool tracesWithQueries_ = false;  // this build's visibility pass uses ray queries
+    std::map<std::tuple<std::array<int32_t, 3>, bool>, ComputePipeline> pipelines_;
+    int pipelinesMade_ = 0;  // pipelines created in this build
+    double pipelineSeconds_ = 0;  // their creation's wall time in this build
 };
 
 Expected<VulkanBuffer> VulkanBackend::uploadArray(const void* data, std::size_t bytes,
@@ -112,33 +158,72 @@ Expected<VulkanBuffer> VulkanBackend::uploadArray(const void* data, std::size_t 
     return buffer;
 }
 
+Expected<void> VulkanBackend::uploadScene(const PatchMesh& mesh,
+                                          const std::vector<shared::PatchGeometry>& patches,
+                                          PairKernelParams& params,
+                                          std::vector<VulkanBuffer>& owned,
+                                          SceneAcceleration& acceleration) {
+    auto patchBuffer = uploadArray(patches.data(), patches.size() * sizeof(shared::PatchGeometry),
+                                   "patches", patches.size());
+    if (!patchBuffer) return patchBuffer.error();
+    owned.push_back(*patchBuffer);
+    params.patches = patchBuffer->address;
+    // The flat BVH either way: the walk traverses it, and its leaf order is the order the
+    // acceleration structures get their triangles in (vulkan/acceleration.h says why).
+    const Timer timer;
+    auto bvh = buildFlatBvh(mesh);
+    if (!bvh) return bvh.error();
+    const double bvhSeconds = timer.seconds();
+    tracesWithQueries_ = rays_.query && !patches.empty();
+    if (tracesWithQueries_) {
+        auto built = buildSceneAcceleration(context_, bvh->triangles, accelerationLimit());
+        if (!built) return built.error();
+        acceleration = *built;
+        params.scene = acceleration.topAddress;
+        logVerbose(
+            concat("vulkan: acceleration structures over ", formatCount(acceleration.triangleCount),
+                   " triangles: ", formatBytes(double(acceleration.structureBytes)), " (",
+                   formatBytes(double(acceleration.buildBytes)),
+                   " more during the build), built in ", formatDuration(acceleration.buildSeconds),
+                   " (their order in ", formatDuration(bvhSeconds), ")"));
+        return {};
+    }
+    for (const auto& [data, bytes, what, count, address] :
+         {std::tuple{static_cast<const void*>(bvh->nodes.data()),
+                     bvh->nodes.size() * sizeof(shared::BvhNode), "BVH nodes", bvh->nodes.size(),
+                     &params.nodes},
+          std::tuple{static_cast<const void*>(bvh->triangles.data()),
+                     bvh->triangles.size() * sizeof(shared::BvhTriangle), "BVH triangles",
+                     bvh->triangles.size(), &params.triangles}}) {
+        auto buffer = uploadArray(data, bytes, what, count);
+        if (!buffer) return buffer.error();
+        owned.push_back(*buffer);
+        *address = buffer->address;
+    }
+    logVerbose(concat("vulkan: flat BVH over ", formatCount(bvh->triangles.size()),
+                      " triangles: ", formatCount(bvh->nodes.size()), " nodes, ",
+                      formatBytes(double(bvh->nodes.size() * sizeof(shared::BvhNode) +
+                                         bvh->triangles.size() * sizeof(shared::BvhTriangle))),
+                      ", built in ", formatDuration(bvhSeconds)));
+    return {};
+}
+
 Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh,
                                                            const FormFactorSettings& settings) {
     Expected<void> pairMethod = checkPairMethod(settings, name());
     if (!pairMethod) return pairMethod.error();
     const std::vector<shared::PatchGeometry> patches = kernelPatches(mesh);
-    auto built = buildFlatBvh(mesh);
-    if (!built) return built.error();
-    const FlatBvh& bvh = *built;
     std::vector<VulkanBuffer> owned;
+    SceneAcceleration acceleration;
     const auto release = [&] {
         for (VulkanBuffer& buffer : owned)
             destroyBuffer(context_, buffer);
+        destroySceneAcceleration(context_, acceleration);
     };
-    for (const auto& [data, bytes, what, count] :
-         {std::tuple{static_cast<const void*>(patches.data()),
-                     patches.size() * sizeof(shared::PatchGeometry), "patches", patches.size()},
-          std::tuple{static_cast<const void*>(bvh.nodes.data()),
-                     bvh.nodes.size() * sizeof(shared::BvhNode), "BVH nodes", bvh.nodes.size()},
-          std::tuple{static_cast<const void*>(bvh.triangles.data()),
-                     bvh.triangles.size() * sizeof(shared::BvhTriangle), "BVH triangles",
-                     bvh.triangles.size()}}) {
-        auto buffer = uploadArray(data, bytes, what, count);
-        if (!buffer) {
-            release();
-            return buffer.error();
-        }
-        owned.push_back(*buffer);
+    PairKernelParams params{};
+    if (auto uploaded = uploadScene(mesh, patches, params, owned, acceleration); !uploaded) {
+        release();
+        return uploaded.error();
     }
 
     // Batches: pairs and results are 8 bytes each, so both buffers fit the limit.
@@ -162,13 +247,9 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
         }
         owned.push_back(*buffer);
     }
-    const VulkanBuffer pairBuffer = owned[3];
-    const VulkanBuffer resultBuffer = owned[4];
+    const VulkanBuffer pairBuffer = owned[owned.size() - 2];
+    const VulkanBuffer resultBuffer = owned[owned.size() - 1];
 
-    PairKernelParams params{};
-    params.patches = owned[0].address;
-    params.nodes = owned[1].address;
-    params.triangles = owned[2].address;
     params.pairs = pairBuffer.address;
     params.results = resultBuffer.address;
     const KernelSettings kernel = kernelSettings(settings);  // as every backend passes them
@@ -196,7 +277,8 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
         Expected<void> runPass(std::span<const PairIndex> pairs, int mode, int rays,
                                std::span<PairFactors> out) override {
             const VulkanContext& context = backend.context_;
-            auto made = backend.pipeline(params.method, params.level, mode);
+            auto made =
+                backend.pipeline(params.method, params.level, mode, backend.tracesWithQueries_);
             if (!made) return made.error();
             const ComputePipeline& kernel = **made;
             params.rays = rays;
@@ -229,8 +311,14 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
     };
     Passes passes(*this, params, pairBuffer, resultBuffer, dispatchPairs);
     GpuPassEvaluator evaluator("vulkan", batchPairs, params.method, passes);
+    pipelinesMade_ = 0;
+    pipelineSeconds_ = 0;
     auto result = computeFormFactors(mesh, settings, evaluator);
     logVerbose(evaluator.summary());
+    if (pipelinesMade_ > 0) {
+        logVerbose(concat("vulkan: ", pipelinesMade_, " pipeline", pipelinesMade_ > 1 ? "s" : "",
+                          " created in ", formatDuration(pipelineSeconds_)));
+    }
     release();
     return result;
 }
@@ -239,15 +327,38 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
 
 Expected<std::unique_ptr<Backend>> makeVulkanBackend(const BackendOptions& options,
                                                      const VulkanBackendLimits& limits) {
-    auto context = createContext(options.device);
+    auto context = createContext(options.device, options.vulkanRays == VulkanRays::Query);
     if (!context) return context.error();
+    RayTracing rays;
+    switch (options.vulkanRays) {
+        case VulkanRays::Query:
+            rays.query = true;
+            rays.description = "ray queries (VK_KHR_ray_query; --vulkan-rays query)";
+            break;
+        case VulkanRays::Software:
+            rays.description = "the BVH walk in the shader (--vulkan-rays software)";
+            break;
+        case VulkanRays::Auto:
+            // A CPU implementation's ray queries (lavapipe's) run slower than the walk
+            // (docs/performance.md, "GPU backends"); a GPU's run on its ray-tracing hardware.
+            rays.query =
+                context->rayQuery && context->properties.deviceType != VK_PHYSICAL_DEVICE_TYPE_CPU;
+            rays.description = rays.query ? "ray queries (VK_KHR_ray_query)"
+                : context->rayQuery
+                ? "the BVH walk in the shader (faster than this CPU device's ray queries; "
+                  "--vulkan-rays query uses them)"
+                : "the BVH walk in the shader (the device has no VK_KHR_ray_query)";
+            break;
+    }
     logVerbose(concat("vulkan: device '", context->properties.deviceName, "' (",
                       deviceTypeName(context->properties.deviceType), ", Vulkan ",
                       VK_API_VERSION_MAJOR(context->properties.apiVersion), ".",
                       VK_API_VERSION_MINOR(context->properties.apiVersion),
                       "), largest storage buffer ",
-                      formatBytes(double(context->properties.limits.maxStorageBufferRange))));
-    return std::unique_ptr<Backend>(std::make_unique<VulkanBackend>(*context, limits));
+                      formatBytes(double(context->properties.limits.maxStorageBufferRange)),
+                      "; shadow rays: ", rays.description));
+    return std::unique_ptr<Backend>(
+        std::make_unique<VulkanBackend>(*context, limits, std::move(rays)));
 }
 
 Expected<std::unique_ptr<Backend>> makeVulkanBackend(const BackendOptions& options) {

@@ -373,6 +373,11 @@ const std::map<std::string, Case>& cases() {
          [](const auto&) {
              return "info " + testDataPath("gltf/lamp_room.gltf") + " --subdivide nan";
          }},
+        {"vulkan-rays-unknown",
+         [](const auto&) {
+             return "formfactors " + testDataPath("gltf/lamp_room.gltf") +
+                 " --backend vulkan --vulkan-rays fast";
+         }},
         {"seed-negative",
          [](const auto&) { return "solve " + testDataPath("gltf/lamp_room.gltf") + " --seed -1"; }},
         {"seed-2^64",

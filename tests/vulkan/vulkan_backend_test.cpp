@@ -2,9 +2,12 @@
 // pair kernel (shared/pair_kernel.h) on the same pairs with the same seed, so entries agree to
 // float rounding (1e-4 relative), on analytic scenes (Howell C-11 and C-14 closed forms as a
 // sanity check), an occluded scene and the Cornell box; chunking (tiny batches and dispatches,
-// a tiny storage-buffer limit) must not change a bit; device selection errors are clear. Runs on
-// whatever Vulkan device exists (Mesa lavapipe in CI); without one every test is skipped, and
-// fails instead when DAISY_REQUIRE_VULKAN=1 (what .ci/run sets, so CI cannot silently skip).
+// a tiny storage-buffer limit) must not change a bit; device selection errors are clear. The
+// tests that trace rays run once per way of tracing them (VulkanRaysTest: the BVH walk in the
+// shader, and ray queries through acceleration structures). Runs on whatever Vulkan device
+// exists (Mesa lavapipe in CI); without one (or without ray queries, for that variant) every
+// test is skipped, and fails instead when DAISY_REQUIRE_VULKAN=1 (what .ci/run sets, so CI
+// cannot silently skip).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -72,8 +75,10 @@ uint64_t entriesOverTolerance(const SparseMatrix& a, const SparseMatrix& b, doub
 
 class VulkanBackendTest : public ::testing::Test {
 protected:
-    void SetUp() override {
-        auto backend = makeVulkanBackend(BackendOptions{});
+    void SetUp() override { makeBackends(BackendOptions{}); }
+
+    void makeBackends(const BackendOptions& options) {
+        auto backend = makeVulkanBackend(options);
         if (!backend) DAISY_SKIP_WITHOUT_VULKAN(backend.error().message);
         vulkan_ = std::move(*backend);
         reference_ = makeReferenceBackend();
@@ -107,23 +112,36 @@ protected:
     std::unique_ptr<Backend> reference_;
 };
 
-TEST_F(VulkanBackendTest, AgreesWithReferenceOnAnalyticScenes) {
+// The same tests with the visibility pass's segments traced each way (--vulkan-rays software,
+// --vulkan-rays query).
+class VulkanRaysTest : public VulkanBackendTest, public ::testing::WithParamInterface<VulkanRays> {
+protected:
+    void SetUp() override { makeBackends(options()); }
+    BackendOptions options() const {
+        BackendOptions options;
+        options.vulkanRays = GetParam();
+        return options;
+    }
+};
+
+TEST_P(VulkanRaysTest, AgreesWithReferenceOnAnalyticScenes) {
     expectAgreement(parallelSquares(3, false), "parallel squares");
     expectAgreement(patchesOf(perpendicularSquares(3)), "perpendicular squares");
     expectAgreement(patchesOf(verify::unitCubeRoom(2)), "unit cube room");
 }
 
-TEST_F(VulkanBackendTest, AgreesWithReferenceOnOccludedScenes) {
+TEST_P(VulkanRaysTest, AgreesWithReferenceOnOccludedScenes) {
     expectAgreement(parallelSquares(4, true), "squares with a blocker");
     expectAgreement(cornellBox(), "Cornell box");
 }
 
 // The method and level are specialisation constants of the shader (one pipeline per method,
-// level and mode, kept by the backend across builds): every level agrees with reference, on one
-// backend object that builds them one after the other and then the first again. riemann
+// level and mode, kept by the backend across builds; one visibility pipeline for all of them):
+// every level agrees with reference, on one backend object that builds them one after the other
+// and then the first again. riemann
 // converges as O(h^2) (L = 1 ~5% high, each level ~4x better: formfactor_test.cpp), so a level
 // the shader ignored would show: the levels' matrices must differ by far more than 1e-4.
-TEST_F(VulkanBackendTest, EverySpecialisedLevelAgreesWithReference) {
+TEST_P(VulkanRaysTest, EverySpecialisedLevelAgreesWithReference) {
     const PatchMesh mesh = parallelSquares(4, true);
     for (FormFactorMethod method : {FormFactorMethod::Riemann, FormFactorMethod::Hybrid}) {
         std::vector<SparseMatrix> byLevel;
@@ -154,7 +172,7 @@ TEST_F(VulkanBackendTest, EverySpecialisedLevelAgreesWithReference) {
 
 // Sanity against the closed forms at the defaults (hybrid, L = 1, K = 16); 1e-3 relative is the
 // cpu backend's tolerance on the same meshes (radiosity/form_factors_test.cpp).
-TEST_F(VulkanBackendTest, MatchesHowellClosedForms) {
+TEST_P(VulkanRaysTest, MatchesHowellClosedForms) {
     FormFactorSettings settings;
     settings.progress = false;
     const PatchMesh parallel = parallelSquares(4, false);
@@ -168,14 +186,14 @@ TEST_F(VulkanBackendTest, MatchesHowellClosedForms) {
 
 // Tiny batches (7 pairs), dispatches (3 pairs: partial workgroups at every pairOffset) and a
 // 4 KiB storage-buffer limit (512 pairs a batch) give the default run's matrix bit for bit.
-TEST_F(VulkanBackendTest, ChunkingDoesNotChangeTheResult) {
+TEST_P(VulkanRaysTest, ChunkingDoesNotChangeTheResult) {
     const PatchMesh mesh = cornellBox();
     const FormFactorSettings settings = test::quietSettings(FormFactorMethod::Hybrid, 16);
     const FormFactorResult whole = build(*vulkan_, mesh, settings);
     for (const VulkanBackendLimits& limits :
          {VulkanBackendLimits{7, 3, 0}, VulkanBackendLimits{0, 0, 4096},
           VulkanBackendLimits{1, 1, 0}}) {
-        auto chunked = makeVulkanBackend(BackendOptions{}, limits);
+        auto chunked = makeVulkanBackend(options(), limits);
         ASSERT_TRUE(chunked.ok()) << chunked.error().message;
         const FormFactorResult parts = build(**chunked, mesh, settings);
         EXPECT_EQ(parts.matrix.rowOffsets, whole.matrix.rowOffsets);
@@ -229,6 +247,13 @@ TEST_F(VulkanBackendTest, TheRegistryMakesIt) {
     ASSERT_TRUE(backend.ok()) << backend.error().message;
     EXPECT_EQ((*backend)->name(), "vulkan");
 }
+
+INSTANTIATE_TEST_SUITE_P(Rays, VulkanRaysTest,
+                         ::testing::Values(VulkanRays::Software, VulkanRays::Query),
+                         [](const ::testing::TestParamInfo<VulkanRays>& param) {
+                             return std::string(param.param == VulkanRays::Query ? "query"
+                                                                                 : "software");
+                         });
 
 #else
 
