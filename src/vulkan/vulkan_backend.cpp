@@ -53,6 +53,11 @@ constexpr std::size_t kBatchPairs = std::size_t(1) << 20;
 // the 2-core benchmark machine (docs/performance.md), so a dispatch takes it seconds.
 constexpr uint64_t kDispatchWork = uint64_t(1) << 22;
 
+// "12.3 ms": the short stages of a build, which formatDuration would show as 0.0 s.
+std::string milliseconds(double seconds) {
+    return concat(formatNumber(seconds * 1e3, 3), " ms");
+}
+
 // How the backend traces: ray queries or the BVH walk, and why (for --verbose and `daisy info`).
 struct RayTracing {
     bool query = false;
@@ -184,8 +189,8 @@ Expected<void> VulkanBackend::uploadScene(const PatchMesh& mesh,
             concat("vulkan: acceleration structures over ", formatCount(acceleration.triangleCount),
                    " triangles: ", formatBytes(double(acceleration.structureBytes)), " (",
                    formatBytes(double(acceleration.buildBytes)),
-                   " more during the build), built in ", formatDuration(acceleration.buildSeconds),
-                   " (their order in ", formatDuration(bvhSeconds), ")"));
+                   " more during the build), built in ", milliseconds(acceleration.buildSeconds),
+                   " (their order, the flat BVH's, in ", milliseconds(bvhSeconds), ")"));
         return {};
     }
     for (const auto& [data, bytes, what, count, address] :
@@ -204,7 +209,7 @@ Expected<void> VulkanBackend::uploadScene(const PatchMesh& mesh,
                       " triangles: ", formatCount(bvh->nodes.size()), " nodes, ",
                       formatBytes(double(bvh->nodes.size() * sizeof(shared::BvhNode) +
                                          bvh->triangles.size() * sizeof(shared::BvhTriangle))),
-                      ", built in ", formatDuration(bvhSeconds)));
+                      ", built in ", milliseconds(bvhSeconds)));
     return {};
 }
 
