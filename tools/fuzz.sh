@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (tests/fuzz/*_fuzz.cpp) with clang, AddressSanitizer and
 # UndefinedBehaviorSanitizer, regenerates their seed corpora (tools/make_fuzz_corpus.py) and
-# fuzzes TARGET for SECONDS: tools/fuzz.sh [TARGET|all] [SECONDS]. Defaults: all, 120 s each.
-# Each target grows build-fuzz/corpus/<target> from tests/fuzz/corpus/<target>; crashing inputs
-# go to build-fuzz/crashes/<target>/ (copy them to tests/fuzz/crashes/<target>/ once fixed:
-# ctest replays them).
+# fuzzes TARGET for SECONDS: tools/fuzz.sh [TARGET|all] [SECONDS] [LIBFUZZER-FLAG...]. Defaults:
+# all, 120 s each. Each target grows build-fuzz/corpus/<target> from tests/fuzz/corpus/<target>;
+# crashing inputs go to build-fuzz/crashes/<target>/ (copy them to tests/fuzz/crashes/<target>/
+# once fixed: ctest replays them). Extra flags go to every fuzzer, e.g. `-fork=1
+# -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1` to keep going past a finding.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 target=${1:-all}
 seconds=${2:-120}
+extra=("${@:3}")
 sanitize="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DDAISY_BUILD_FUZZERS=ON -DBUILD_TESTING=OFF -DDAISY_ENABLE_VULKAN=OFF -DDAISY_ENABLE_CUDA=OFF \
@@ -29,5 +31,5 @@ for name in "${targets[@]}"; do
     # -max_len: the largest seed (blacklight_box.glb, about 220 KB) fits whole.
     "build-fuzz/tests/fuzz/${name}_fuzz" "build-fuzz/corpus/$name" "tests/fuzz/corpus/$name" \
         -dict="$dict" -max_total_time="$seconds" -max_len=262144 -rss_limit_mb=2048 \
-        -timeout=20 -artifact_prefix="build-fuzz/crashes/$name/" -print_final_stats=1
+        -timeout=20 -artifact_prefix="build-fuzz/crashes/$name/" -print_final_stats=1 "${extra[@]}"
 done

@@ -1,10 +1,14 @@
 #!/usr/bin/env python3
 """Writes the fuzz targets' seed corpora, tests/fuzz/corpus/<target>/: every committed
-.gltf scene (assets/scenes, tests/data) as .gltf and converted to .glb, hand-made OBJ+MTL scenes,
-every DAISY_materials_spectral object in those scenes plus one of each form the extension allows,
---materials files built from them, option strings, and tiny scenes for the whole pipeline. Each
-seed starts with the byte its target reads first (tests/fuzz/*_fuzz.cpp). With --check, only
-compares with the committed files (the ctest generator.fuzz_corpus_up_to_date)."""
+.gltf scene (assets/scenes, tests/data) as .gltf and converted to .glb; the Blender exports of
+tests/data/blender made self-contained (their .bin and .png inlined), which bring punctual
+lights, textures, COLOR_0, quantization, instancing, Draco and meshopt, plus small variants of
+them (a JPEG texture, TEXCOORD_1, a directional light); hand-made OBJ+MTL scenes; every
+DAISY_materials_spectral object in those scenes plus one of each form the extension allows;
+--materials files built from them, up to one naming all 64 materials of the target's scene;
+option strings; and tiny scenes for the whole pipeline. Each seed starts with the byte its
+target reads first (tests/fuzz/*_fuzz.cpp). With --check, only compares with the committed files
+(the ctest generator.fuzz_corpus_up_to_date)."""
 import base64
 import json
 import struct
@@ -20,7 +24,8 @@ SCENES = sorted((ROOT / "assets" / "scenes").glob("*.gltf")) + sorted(
 
 
 def to_glb(document):
-    """The same scene as GLB: the first data: buffer becomes the BIN chunk."""
+    """The same scene as GLB: the first data: buffer becomes the BIN chunk (a buffer without a
+    uri stays as it is: a meshopt fallback buffer)."""
     document = json.loads(json.dumps(document))
     binary = b""
     buffers = document.get("buffers", [])
@@ -34,6 +39,92 @@ def to_glb(document):
     if binary:
         chunks += struct.pack("<II", len(binary), 0x004E4942) + binary
     return struct.pack("<III", 0x46546C67, 2, 12 + len(chunks)) + chunks
+
+
+BLENDER = ROOT / "tests" / "data" / "blender"
+# Written by Blender's exporter, gltfpack and draco_transcoder (tools/make_blender_corpus.py,
+# tools/make_draco_fixture.py): Draco and meshopt seeds are real compressed streams.
+BLENDER_SCENES = ["cornell.gltf", "cornell_draco.gltf", "room.gltf", "room_packed.gltf"]
+
+
+def data_uri(mime, data):
+    return f"data:{mime};base64," + base64.b64encode(data).decode()
+
+
+def inlined(path):
+    """A glTF document with its external buffers and images read into data: URIs."""
+    document = json.loads(path.read_text())
+    for buffer in document.get("buffers", []):
+        if "uri" in buffer and not buffer["uri"].startswith("data:"):
+            buffer["uri"] = data_uri("application/octet-stream",
+                                     (path.parent / buffer["uri"]).read_bytes())
+    for image in document.get("images", []):
+        if "uri" in image and not image["uri"].startswith("data:"):
+            image["uri"] = data_uri(image.get("mimeType", "image/png"),
+                                    (path.parent / image["uri"]).read_bytes())
+    return document
+
+
+def from_glb(data):
+    """A GLB's JSON with its BIN chunk as the first buffer's data: URI."""
+    length = struct.unpack_from("<I", data, 12)[0]
+    document = json.loads(data[20:20 + length])
+    at = 20 + length
+    if at + 8 <= len(data):
+        size = struct.unpack_from("<I", data, at)[0]
+        document["buffers"][0]["uri"] = data_uri("application/octet-stream",
+                                                 data[at + 8:at + 8 + size])
+    return document
+
+
+def gray_jpeg():
+    """An 8 x 8 baseline JPEG of one grey block (DC difference 0, then end of block): the
+    smallest stream stb_image's JPEG decoder reads through."""
+    def segment(marker, body):
+        return struct.pack(">BBH", 0xFF, marker, len(body) + 2) + body
+    quantization = segment(0xDB, b"\x00" + b"\x01" * 64)
+    frame = segment(0xC0, struct.pack(">BHHB", 8, 8, 8, 1) + b"\x01\x11\x00")
+    # One code of length 1 in each table: DC category 0, AC end of block.
+    dc = segment(0xC4, b"\x00" + b"\x01" + b"\x00" * 15 + b"\x00")
+    ac = segment(0xC4, b"\x10" + b"\x01" + b"\x00" * 15 + b"\x00")
+    scan = segment(0xDA, b"\x01\x01\x00\x00\x3f\x00")
+    return b"\xff\xd8" + quantization + frame + dc + ac + scan + b"\x3f\xff\xd9"
+
+
+def blender_variants(room):
+    """(name, document): small changes to the Blender room that reach paths its export does
+    not: a JPEG texture, the texture on TEXCOORD_1, a directional light, a light without a
+    name or colour."""
+    def variant(change):
+        document = json.loads(json.dumps(room))
+        change(document)
+        return document
+
+    def jpeg(document):
+        document["images"][0] = {"uri": data_uri("image/jpeg", gray_jpeg()),
+                                 "mimeType": "image/jpeg"}
+
+    def texcoord1(document):
+        primitive = document["meshes"][0]["primitives"][0]
+        primitive["attributes"]["TEXCOORD_1"] = primitive["attributes"]["TEXCOORD_0"]
+        texture = document["materials"][primitive["material"]]["pbrMetallicRoughness"]
+        texture["baseColorTexture"]["texCoord"] = 1
+        texture["baseColorTexture"]["extensions"] = {
+            "KHR_texture_transform": {"offset": [0.5, 0], "rotation": 0.3, "scale": [4, 4]}}
+
+    def directional(document):
+        document["extensions"]["KHR_lights_punctual"]["lights"] = [
+            {"type": "directional", "intensity": 3},
+            {"type": "spot", "intensity": 100, "range": 10, "color": [0.2, 0.4, 1],
+             "spot": {"outerConeAngle": 0.7}}]
+
+    return [("room_jpeg", variant(jpeg)), ("room_texcoord1", variant(texcoord1)),
+            ("room_directional", variant(directional))]
+
+
+# The materials_json target's scene (tests/fuzz/materials_json_fuzz.cpp): one triangle each for
+# "lamp", "wall" and m02 .. m63.
+MATERIAL_NAMES = ["lamp", "wall"] + [f"m{k:02d}" for k in range(2, 64)]
 
 
 CUBE_OBJ = """# a closed unit room with a ceiling lamp
@@ -128,6 +219,21 @@ def seeds():
         if triangles <= 64:
             yield "pipeline", path.stem + ".gltf", b"\0" + path.read_bytes()
             yield "pipeline", path.stem + "_subdivided.gltf", b"\2" + path.read_bytes()
+    room = None
+    for name in BLENDER_SCENES:
+        document = inlined(BLENDER / name)
+        stem = Path(name).stem
+        room = document if stem == "room" else room
+        yield "gltf", stem + ".gltf", b"\0" + json.dumps(document).encode()
+        yield "gltf", stem + ".glb", b"\1" + to_glb(document)
+        yield "pipeline", stem + ".gltf", b"\0" + json.dumps(document).encode()
+    meshopt = (BLENDER / "room_meshopt.glb").read_bytes()
+    yield "gltf", "room_meshopt.glb", b"\1" + meshopt
+    yield "gltf", "room_meshopt.gltf", b"\0" + json.dumps(from_glb(meshopt)).encode()
+    yield "pipeline", "room_meshopt.gltf", b"\0" + json.dumps(from_glb(meshopt)).encode()
+    for name, document in blender_variants(room):
+        yield "gltf", name + ".gltf", b"\0" + json.dumps(document).encode()
+        yield "pipeline", name + ".gltf", b"\0" + json.dumps(document).encode()
     separator = b"\n#---MTL---\n"
     for name, obj, mtl in [("cube", CUBE_OBJ, CUBE_MTL), ("plates", PLATES_OBJ, CUBE_MTL),
                            ("relative", RELATIVE_OBJ, "")]:
@@ -140,6 +246,11 @@ def seeds():
         yield "material_extension", f"extension{k:02d}.json", text
         yield "materials_json", f"materials{k:02d}.json", json.dumps(
             {"lamp": extension, "wall": extensions[(k + 1) % len(extensions)]}).encode()
+    # Many members: every material of the target's scene, each a different form.
+    many = {name: extensions[k % len(extensions)] for k, name in enumerate(MATERIAL_NAMES)}
+    yield "materials_json", "materials_all64.json", json.dumps(many, indent=1).encode()
+    yield "materials_json", "materials_1000.json", json.dumps(
+        {f"m{k:03d}": extensions[k % 3] for k in range(1000)}).encode()
     for k, (parser, text) in enumerate(OPTIONS):
         yield "options", f"option{k:02d}", bytes([parser]) + text.encode()
 

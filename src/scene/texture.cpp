@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "core/strings.h"
+#include "scene/jpeg_segments.h"
 #include "spectral/color.h"
 
 // stb_image compiled here, static to this file (image_io.cpp and TinyGLTF have their own).
@@ -146,6 +147,7 @@ std::string undecodable(std::string_view bytes) {
 }  // namespace
 
 Expected<TextureImage> decodeTextureImage(std::string_view bytes, bool srgb, LoadBudget& budget) {
+    if (auto tables = checkJpegHuffmanTables(bytes); !tables) return tables.error();
     int width = 0, height = 0, channels = 0;
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     const int size = static_cast<int>(std::min<std::size_t>(bytes.size(), INT32_MAX));

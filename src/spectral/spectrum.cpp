@@ -338,7 +338,10 @@ std::vector<double> sampleSpectrum(const WavelengthSet& set, const Spectrum& spe
         return samples;
     }
     const std::size_t last = set.size() - 1;
-    const auto [definedFromNm, definedToNm] = spectrum.definedRangeNm();
+    // Named variables, not a structured binding: the lambda below captures them, which clang 14
+    // (the fuzz build's compiler) refuses for bindings.
+    const std::array<double, 2> definedNm = spectrum.definedRangeNm();
+    const double definedFromNm = definedNm[0], definedToNm = definedNm[1];
     for (std::size_t k = 0; k < set.size(); ++k) {
         const auto [first, end] = set.hatSupportNm(k);
         const double lk = set.wavelengthNm(k);

@@ -300,6 +300,18 @@ const std::map<std::string, Case>& cases() {
              writeFile(dir, "huge.png", pngHeader(20000, 20000));
              return info(saveGltf(dir, "texture.gltf", withTexture(lampRoom(), "huge.png")));
          }},
+        {"gltf-jpeg-huffman-over-256",
+         [](const auto& dir) {
+             // SOI, then a DHT segment (length 2 + 17 + 300) whose AC table lists 255 + 45
+             // codes; its class/id byte is byte 6.
+             std::string counts(16, '\0');
+             counts[0] = char(255);
+             counts[15] = char(45);
+             writeFile(dir, "huffman.jpg",
+                       std::string("\xFF\xD8\xFF\xC4\x01\x3F\x10", 7) + counts +
+                           std::string(300, '\0') + "\xFF\xD9");
+             return info(saveGltf(dir, "texture.gltf", withTexture(lampRoom(), "huffman.jpg")));
+         }},
         {"gltf-image-base64",
          [](const auto& dir) {
              return info(saveGltf(dir, "texture.gltf",
