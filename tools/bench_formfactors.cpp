@@ -25,7 +25,7 @@ int main(int argc, char** argv) {
     const std::string scenePath = argv[1];
     FormFactorSettings settings;
     settings.progress = false;
-    PacketMode mode = PacketMode::Packet16;
+    PacketMode mode = PacketMode::Stream;  // the cpu backend's
     int repeat = 1;
     bool header = false;
     for (int a = 2; a < argc; ++a) {
@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "error: %s\n", mesh.error().message.c_str());
         return 2;
     }
-    auto caster = makeRayCaster(*mesh, {.packetMode = mode});
+    auto caster = makeRayCaster(*mesh, {.packetMode = mode, .watertightSegments = true});
     if (!caster) {
         std::fprintf(stderr, "error: %s\n", caster.error().message.c_str());
         return 1;
