@@ -98,27 +98,31 @@ TEST(FormFactorsCli, UnwritableOutputFailsCleanly) {
     EXPECT_TRUE(std::filesystem::is_empty(dir));
 }
 
-// The cost model's choice is in --verbose: its measured costs and what it culled or
-// traced, or, when the rays' cost was lost in timing noise, that it stayed off.
+// The cost model's choice is in --verbose: its prices and what it culled or traced. The prices
+// are fixed and the work counted, so its choices, and the line, are the same for any thread
+// count (and load), and so is F, byte for byte.
 TEST(FormFactorsCli, VerboseLogsTheCostModelsChoice) {
     const auto dir = test::testTempDir();
     const std::string scene = test::assetPath("scenes/formfactor_family/blacklight_small.gltf");
-    const RunResult run = runDaisy("formfactors " + scene + " -o " + (dir / "F.mtx").string() +
-                                   " --verbose --no-cache");
-    ASSERT_EQ(run.status, 0) << run.output;
-    const bool measured = run.output.find("  cost model: a ray ") != std::string::npos;
-    const bool fallback = run.output.find("  cost model off: culled all ") != std::string::npos;
-    EXPECT_TRUE(measured || fallback) << run.output;
-    if (measured) {
-        EXPECT_NE(run.output.find(" cluster pairs, traced "), std::string::npos) << run.output;
-        EXPECT_NE(run.output.find(" refinements"), std::string::npos) << run.output;
-        // The rays' in-situ correction, a factor the clamp keeps in [1/4, 4].
-        const std::size_t at = run.output.find(", rays ");
+    std::string lines[2];
+    std::string matrices[2];
+    for (int threads : {1, 2}) {
+        const std::string out = (dir / (threads == 1 ? "F1.mtx" : "F2.mtx")).string();
+        const RunResult run =
+            runDaisy("formfactors " + scene + " -o " + out + " --verbose --no-cache --threads " +
+                     (threads == 1 ? "1" : "2"));
+        ASSERT_EQ(run.status, 0) << run.output;
+        const std::size_t at = run.output.find("  cost model (fixed prices");
         ASSERT_NE(at, std::string::npos) << run.output;
-        const double scale = std::stod(run.output.substr(at + 7));
-        EXPECT_GE(scale, 0.25) << run.output;
-        EXPECT_LE(scale, 4.0) << run.output;
+        const std::string line = run.output.substr(at, run.output.find('\n', at) - at);
+        EXPECT_NE(line.find(" cluster pairs, traced "), std::string::npos) << line;
+        EXPECT_NE(line.find(" refinements; culling priced at "), std::string::npos) << line;
+        lines[threads - 1] = line;
+        matrices[threads - 1] = test::readBytes(out);
     }
+    EXPECT_EQ(lines[0], lines[1]);
+    EXPECT_FALSE(matrices[0].empty());
+    EXPECT_TRUE(matrices[0] == matrices[1]) << "F differs between --threads 1 and 2";
 }
 
 // F does not depend on the instruction set: the cpu backend's lanes (far field, samples) round
