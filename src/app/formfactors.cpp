@@ -37,16 +37,17 @@ void printVerboseStats(const FormFactorStats& s) {
                       " of them 0; ", formatCount(s.raysCast), " rays, ",
                       formatSi(s.pairSeconds > 0 ? double(s.raysCast) / s.pairSeconds : 0),
                       "rays/s over the pair loop"));
-    if (s.costRaySeconds > 0) {
-        const auto ns = [](double seconds) { return formatNumber(seconds * 1e9, 3) + " ns"; };
+    if (s.costRayNs > 0) {
+        const auto ns = [](double value) { return formatNumber(value, 3) + " ns"; };
         logVerbose(concat(
-            "  cost model: a ray ", ns(s.costRaySeconds), ", a shaft with its query ",
-            ns(s.costQuerySeconds), ", a shaft ", ns(s.costShaftSeconds), ", a polygon test ",
-            ns(s.costTestSeconds), " (one thread); culled ", formatCount(s.culledClusterPairs),
-            " cluster pairs, traced ", formatCount(s.costTracedClusterPairs),
-            " without culling (rays cheaper), stopped ", formatCount(s.costStoppedRefinements),
-            " refinements; culling measured over predicted ", formatNumber(s.costCullScale, 3),
-            ", rays ", formatNumber(s.costRayScale, 3), "; culling sampled only after ",
+            "  cost model (fixed prices, one thread of the reference machine): a ray ",
+            ns(s.costRayNs), ", a shaft with its query ", ns(s.costQueryNs), ", a shaft ",
+            ns(s.costShaftNs), ", a polygon test ", ns(s.costTestNs), "; culled ",
+            formatCount(s.culledClusterPairs), " cluster pairs, traced ",
+            formatCount(s.costTracedClusterPairs), " without culling (rays cheaper), stopped ",
+            formatCount(s.costStoppedRefinements), " refinements; culling priced at ",
+            formatNumber(s.costCullNs * 1e-9, 3), " s, the rays it saved at ",
+            formatNumber(s.costSavedNs * 1e-9, 3), " s; culling sampled only after ",
             formatCount(s.costGateClosedWaves), " waves where it had cost more than it saved"));
     } else if (s.culledClusterPairs > 0) {
         logVerbose(concat("  cost model off: culled all ", formatCount(s.culledClusterPairs),

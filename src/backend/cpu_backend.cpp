@@ -1,6 +1,8 @@
 // The cpu backend: the form-factor driver (radiosity/form_factors.h) with the ray caster's
-// visibility (raycast/ray_caster.h), 16-ray packets (measured fastest here: docs/performance.md)
-// and TBB threads.
+// visibility (raycast/ray_caster.h), Embree's stream of single rays (measured fastest here:
+// docs/performance.md) and TBB threads. Its segments are decided by the shared watertight
+// test (watertightSegments), so its visibility is the reference backend's, segment for segment,
+// on every instruction set.
 #include "backend/backend.h"
 #include "raycast/ray_caster.h"
 
@@ -13,7 +15,8 @@ public:
 
     Expected<FormFactorResult> buildFormFactors(const PatchMesh& mesh,
                                                 const FormFactorSettings& settings) override {
-        auto caster = makeRayCaster(mesh, {.packetMode = PacketMode::Packet16});
+        auto caster =
+            makeRayCaster(mesh, {.packetMode = PacketMode::Stream, .watertightSegments = true});
         if (!caster) return caster.error();
         return computeFormFactors(mesh, settings, **caster);
     }

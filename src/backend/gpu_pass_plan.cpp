@@ -13,11 +13,12 @@ using shared::PairFactors;
 using shared::PairIndex;
 
 GpuPassEvaluator::GpuPassEvaluator(std::string name, std::size_t batchPairs, int method,
-                                   PairKernelPasses& passes)
+                                   PairKernelPasses& passes, double segmentNs)
     : name_(std::move(name)),
       batchPairs_(std::max<std::size_t>(1, batchPairs)),
       method_(method),
-      passes_(passes) {}
+      passes_(passes),
+      segmentNs_(segmentNs) {}
 
 Expected<void> GpuPassEvaluator::factors(std::span<const PairIndex> pairs,
                                          std::span<PairFactors> out) {

@@ -49,16 +49,23 @@ struct GpuPassStats {
     double factorSeconds = 0;
 };
 
+// What a shadow segment costs the cost model (PairEvaluator::segmentNs) on a GPU: next to
+// nothing of a CPU thread's time; and on a device that is the CPU itself (Mesa's lavapipe, about
+// 1.1 us a segment measured on the reference machine, docs/performance.md).
+inline constexpr double kGpuSegmentNs = 10;
+inline constexpr double kCpuDeviceSegmentNs = 1100;
+
 // The pass strategy above as the driver's PairEvaluator, over `passes`, for the DAISY_METHOD_*
 // constant `method` (kernelMethod, radiosity/kernel_inputs.h) and batches of at most
-// `batchPairs` (>= 1) pairs.
+// `batchPairs` (>= 1) pairs; `segmentNs` is the device's price of a segment (above).
 class GpuPassEvaluator final : public PairEvaluator {
 public:
-    GpuPassEvaluator(std::string name, std::size_t batchPairs, int method,
-                     PairKernelPasses& passes);
+    GpuPassEvaluator(std::string name, std::size_t batchPairs, int method, PairKernelPasses& passes,
+                     double segmentNs = kGpuSegmentNs);
 
     std::string name() const override { return name_; }
     std::size_t batchPairs() const override { return batchPairs_; }
+    double segmentNs() const override { return segmentNs_; }
     Expected<void> evaluate(std::span<const shared::PairIndex> pairs, int rays,
                             std::span<shared::PairFactors> out) override;
 
@@ -75,6 +82,7 @@ private:
     std::size_t batchPairs_;
     int method_;
     PairKernelPasses& passes_;
+    double segmentNs_;
     GpuPassStats stats_;
     // Scratch reused across batches: a pass's subset of pairs, where each came from, results.
     std::vector<shared::PairIndex> open_, near_;

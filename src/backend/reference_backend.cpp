@@ -27,6 +27,9 @@ static_assert(DAISY_SEGMENT_MARGIN == RayCaster::kSegmentMargin,
 // Pairs handed to the evaluator at once: 64 Ki pairs (1 MiB of pairs and results) keep every
 // worker busy while the driver's CSR scatter between batches stays short.
 constexpr std::size_t kBatchPairs = std::size_t(1) << 16;
+// One segment of shared::pairVisibility through the flat BVH, scalar, on the reference machine
+// (docs/performance.md).
+constexpr double kSegmentNs = 400;
 
 // shared::pairEntry of each pair, in parallel over the pairs.
 class ReferenceEvaluator final : public PairEvaluator {
@@ -40,6 +43,7 @@ public:
 
     std::string name() const override { return "reference"; }
     std::size_t batchPairs() const override { return kBatchPairs; }
+    double segmentNs() const override { return kSegmentNs; }
 
     Expected<void> evaluate(std::span<const PairIndex> pairs, int rays,
                             std::span<PairFactors> out) override {

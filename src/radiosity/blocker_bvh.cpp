@@ -62,7 +62,7 @@ uint32_t BlockerBvh::build(uint32_t begin, uint32_t end, const std::vector<Vec3d
 }
 
 void BlockerBvh::query(const Shaft& shaft, const SkipPlane& skip0, const SkipPlane& skip1,
-                       double tolerance, std::vector<uint32_t>& out) const {
+                       double tolerance, std::vector<uint32_t>& out, BlockerQueryWork& work) const {
     if (nodes_.empty()) return;
     uint32_t stack[64];
     int top = 0;
@@ -70,8 +70,10 @@ void BlockerBvh::query(const Shaft& shaft, const SkipPlane& skip0, const SkipPla
     while (top > 0) {
         const uint32_t nodeIndex = stack[--top];
         const Node& node = nodes_[nodeIndex];
+        ++work.nodes;
         if (shaft.excludesBox(node.bounds)) continue;
         if (node.count > 0) {
+            work.blockers += node.count;
             for (uint32_t k = node.first; k < node.first + node.count; ++k) {
                 const uint32_t b = order_[k];
                 const ShaftPolygon& polygon = blockers_[b];

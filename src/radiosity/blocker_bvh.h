@@ -19,6 +19,12 @@ struct SkipPlane {
     double offset = 0;
 };
 
+// What a query did, counted (the cost model prices it: form_factors_pair_loop.h).
+struct BlockerQueryWork {
+    uint64_t nodes = 0;  // BVH nodes tested against the shaft
+    uint64_t blockers = 0;  // blockers tested
+};
+
 class BlockerBvh {
 public:
     static constexpr uint32_t kLeafSize = 4;
@@ -26,9 +32,10 @@ public:
     explicit BlockerBvh(const std::vector<ShaftPolygon>& blockers);
 
     // Appends to `out` every blocker that may enter the shaft's interior and does not lie in
-    // either skip plane (within `tolerance`). Order: BVH order (deterministic).
+    // either skip plane (within `tolerance`). Order: BVH order (deterministic). Adds what it
+    // tested to `work`.
     void query(const Shaft& shaft, const SkipPlane& skip0, const SkipPlane& skip1, double tolerance,
-               std::vector<uint32_t>& out) const;
+               std::vector<uint32_t>& out, BlockerQueryWork& work) const;
 
     std::size_t nodeCount() const { return nodes_.size(); }
 

@@ -20,6 +20,7 @@ namespace daisy {
 using detail::CandidateBitmap;
 using detail::computeStochastic;
 using detail::kMinRowBlockRows;
+using detail::kMinWaveBlocks;
 using detail::kWavePairs;
 using detail::PairLoop;
 using detail::PendingPair;
@@ -68,10 +69,10 @@ uint64_t formFactorWorkBytes(uint64_t patchCount, uint64_t candidatePairs, uint6
     const uint64_t n = patchCount;
     const uint64_t rowBlocks = n / kMinRowBlockRows + 1;
     const uint64_t threads = std::max(1, tbb::this_task_arena::max_concurrency());
-    // A wave's pending pairs (at most kWavePairs plus one block, or one block a thread: each of
-    // at most blockRows rows) and one batch of pairs with their results.
-    const uint64_t wave =
-        std::min(candidatePairs, std::max(kWavePairs + blockRows * n, threads * blockRows * n));
+    // A wave's pending pairs (at most kWavePairs plus one block, or kMinWaveBlocks blocks: each
+    // of at most blockRows rows) and one batch of pairs with their results.
+    const uint64_t wave = std::min(
+        candidatePairs, std::max(kWavePairs + blockRows * n, kMinWaveBlocks * blockRows * n));
     const uint64_t batch = std::min(candidatePairs, kWavePairs);
     return sparseMatrixBytes(n, 2 * candidatePairs) + CandidateBitmap::bytes(n) +
         4 * n * rowBlocks + 4 * n * (2 + threads) + wave * sizeof(PendingPair) +

@@ -11,7 +11,8 @@
 // sizes every row exactly and tells each block where its mirrored entries go; so memory is the
 // CSR itself plus n^2/16 bytes of bitmap and n^2/8 of block tables, never triplets. Stored
 // zeros (pairs found fully hidden) are dropped at the end. Every value is a pure function of
-// (i, j, settings), so F is bit-identical for any thread count.
+// (i, j, settings) and of the culling's choices, which depend on the geometry, the settings and
+// the backend alone (never on timings), so F is bit-identical for any thread count and load.
 //
 // Backends: every one hands the driver a PairEvaluator (radiosity/pair_evaluator.h) that returns
 // F_ij and F_ji of a batch of pairs; the kernels' inputs are radiosity/kernel_inputs.h. The
@@ -57,9 +58,9 @@ struct FormFactorSettings {
     int threads = 0;  // worker threads; 0 = all hardware threads
     uint64_t maxMemoryBytes = 0;  // refuse a build needing more; 0 = no limit
     bool shaftCulling = true;  // off only to measure what it saves
-    // With shaft culling: per cluster pair and per refinement step, cull only where the measured
-    // cost of the shafts is below that of the rays they could save; off = always
-    // cull, as before the cost model (benchmarks only).
+    // With shaft culling: per cluster pair and per refinement step, cull only where the cost
+    // model prices the shafts below the rays they could save (fixed prices times counted work,
+    // so F does not depend on the machine's load); off = always cull (benchmarks only).
     bool costModel = true;
     bool progress = true;  // progress line on a terminal (core/progress.h decides if shown)
     ProgressObserver onProgress;  // told of the pair loop's progress (core/progress.h); optional
@@ -84,21 +85,23 @@ struct FormFactorStats {
     uint64_t raysCast = 0;  // shadow segments (or stochastic rays)
     uint64_t clusters = 0;
     uint64_t shaftsBuilt = 0;  // shafts constructed for culling
-    // The cost model: cluster pairs culled, cluster pairs traced because their rays cost less
-    // than a shaft query, node pairs traced because smaller shafts would cost more than their
-    // rays, and the measured costs (seconds of one thread; 0 when the model was off).
+    // The cost model (form_factors_cost_model.cpp): cluster pairs culled, cluster pairs traced
+    // because their rays cost less than a shaft query, node pairs traced because smaller shafts
+    // would cost more than their rays; its prices, in nanoseconds of one thread of the reference
+    // machine (fixed, not timed: 0 when the model was off): a segment (the backend's), a
+    // cluster pair's shaft with its query (estimated on this scene from counted work), a shaft
+    // and a shaft-polygon test; what the culling done was priced at and what it saved (the
+    // rays of the pairs it decided), and the waves after which culling had cost more than it
+    // saved (then only sampled).
     uint64_t culledClusterPairs = 0;
     uint64_t costTracedClusterPairs = 0;
     uint64_t costStoppedRefinements = 0;
-    double costRaySeconds = 0;  // one shadow segment
-    double costQuerySeconds = 0;  // one cluster-pair shaft with its blocker query
-    double costShaftSeconds = 0;  // one shaft build
-    double costTestSeconds = 0;  // one shaft-polygon test
-    double costCalibrationSeconds = 0;  // measuring them (part of pairSeconds)
-    // The online correction at the end: measured culling time over the predicted; and the
-    // waves after which culling had cost more than it saved (then only sampled).
-    double costCullScale = 1;
-    double costRayScale = 1;  // measured ray cost in the pair loop over the calibrated
+    double costRayNs = 0;
+    double costQueryNs = 0;
+    double costShaftNs = 0;
+    double costTestNs = 0;
+    double costCullNs = 0;
+    double costSavedNs = 0;
     uint64_t costGateClosedWaves = 0;
     // Conservation (capRowSums, radiosity/sparse_matrix.h; only with visibility rays): rows
     // whose sum came out over 1 and were scaled down, and the largest row sum before that.

@@ -5,13 +5,12 @@
 
 #include <algorithm>
 
-#include "core/timer.h"
 #include "raycast/ray_caster.h"
 
 namespace daisy::detail {
 
 bool PairLoop::covered(const ClusterNode& a, const ClusterNode& b, const uint32_t* blockers,
-                       std::size_t count) const {
+                       std::size_t count, BlockOutput& out) const {
     const Bounds3d bounds = boundsOf(clusters_.outline(a), clusters_.outline(b));
     // Segments stop kSegmentMargin of their length short of each end: a covering face must
     // clear that much of the shaft's size too.
@@ -19,6 +18,7 @@ bool PairLoop::covered(const ClusterNode& a, const ClusterNode& b, const uint32_
         std::max(toleranceOf(bounds), 4.0 * RayCaster::kSegmentMargin * bounds.diagonal());
     for (std::size_t k = 0; k < count; ++k) {
         const uint32_t face = clusters_.blockerFace[blockers[k]];
+        out.cullNs += face != kNoFace ? kTestNs : 0;
         if (face != kNoFace &&
             faceCoversShaft(clusters_.faces[face], clusters_.outline(a), clusters_.outline(b),
                             margin)) {
@@ -53,7 +53,7 @@ void PairLoop::refine(uint32_t nodeA, uint32_t nodeB, std::size_t lo, std::size_
         mark(depth == 0 ? Visibility::ClearCluster : Visibility::ClearRefined);
         return;
     }
-    if (covered(a, b, scratch.blockers.data() + lo, hi - lo)) {
+    if (covered(a, b, scratch.blockers.data() + lo, hi - lo, out)) {
         mark(Visibility::Covered);
         return;
     }
@@ -64,14 +64,12 @@ void PairLoop::refine(uint32_t nodeA, uint32_t nodeB, std::size_t lo, std::size_
     }
     const int countA = a.firstChild != 0 ? 2 : 1;
     const int countB = b.firstChild != 0 ? 2 : 1;
-    const double split = splitBase(countA * countB, hi - lo);
     const double benefit = pairs <= kSmallNodePairs ? kSmallRefineBenefit : kRefineBenefit;
-    if (costModel_ && cullScale_ * split > benefit * traceCost(pairs)) {
+    if (costModel_ && splitCost(countA * countB, hi - lo) > benefit * traceCost(pairs)) {
         ++stats.costStoppedRefinements;
         mark(Visibility::Trace);
         return;
     }
-    out.cullPredicted += split;
     // Halve both nodes (or the one that still can be): four (or two) smaller shafts.
     const uint32_t childrenA[2] = {a.firstChild != 0 ? a.firstChild : nodeA, a.firstChild + 1};
     const uint32_t childrenB[2] = {b.firstChild != 0 ? b.firstChild : nodeB, b.firstChild + 1};
@@ -82,6 +80,7 @@ void PairLoop::refine(uint32_t nodeA, uint32_t nodeB, std::size_t lo, std::size_
             const std::size_t childLo = scratch.blockers.size();
             Shaft& shaft = scratch.shaft(depth + 1);
             ++stats.shaftsBuilt;
+            out.cullNs += kShaftNs + double(hi - lo) * kTestNs;
             const bool valid =
                 shaft.build(clusters_.outline(ca), clusters_.outline(cb),
                             toleranceOf(boundsOf(clusters_.outline(ca), clusters_.outline(cb))));
@@ -135,31 +134,31 @@ void PairLoop::computeCluster(std::size_t block, std::size_t a, ThreadScratch& s
         if (blockCandidates == 0) continue;
         // Classify the block's pairs: shaft of the cluster pair, then refinement. Pairs inside
         // one cluster (nearly coplanar) are simply traced, and so are cluster pairs whose
-        // rays the cost model prices below one shaft query.
+        // rays the cost model prices below one shaft query. Every choice here depends on the
+        // geometry and on the gate, which changes only between waves.
         scratch.visibility.assign(std::size_t(rowCluster.end - rowCluster.begin) * width,
                                   visibility ? Visibility::Trace : Visibility::ClearCluster);
         if (culling() && a != b) {
             if (costModel_ &&
                 ((!gateOpen_ && (a + b) % kGateSample != 0) ||
-                 traceCost(blockCandidates) < cullScale_ * stats_.costQuerySeconds)) {
+                 traceCost(blockCandidates) < stats_.costQueryNs)) {
                 ++stats.costTracedClusterPairs;
             } else {
                 ++stats.culledClusterPairs;
-                const auto cullStart = Clock::now();
-                out.cullPredicted += stats_.costQuerySeconds;
                 Shaft& shaft = scratch.shaft(0);
                 ++stats.shaftsBuilt;
                 const double tolerance = toleranceOf(
                     boundsOf(clusters_.outline(rowCluster), clusters_.outline(columnCluster)));
+                BlockerQueryWork work;
                 if (shaft.build(clusters_.outline(rowCluster), clusters_.outline(columnCluster),
                                 tolerance)) {
                     scratch.blockers.clear();
                     bvh_.query(shaft, clusterPlane(rowCluster), clusterPlane(columnCluster),
-                               tolerance, scratch.blockers);
+                               tolerance, scratch.blockers, work);
                     refine(clusters_.clusterRoot[a], clusters_.clusterRoot[b], 0,
                            scratch.blockers.size(), 0, rowCluster, columnCluster, scratch, out);
                 }
-                out.cullSeconds += secondsSince(cullStart);
+                out.cullNs += queryNs(work);
             }
         }
         for (uint32_t i = rowCluster.begin; i < rowCluster.end; ++i) {

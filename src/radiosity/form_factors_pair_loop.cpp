@@ -6,7 +6,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -98,24 +97,21 @@ Expected<FormFactorResult> PairLoop::run() {
     resizeOnHugePages(matrix_.values, stats_.slots);
 
     const auto pairStart = Clock::now();
-    const auto calibrateStart = Clock::now();
     calibrate();
-    stats_.costCalibrationSeconds = stats_.costRaySeconds > 0 ? secondsSince(calibrateStart) : 0;
     {
         Progress progress("view factors", stats_.pairs, "pairs",
                           settings_.progress && progressEnabledByDefault(), settings_.onProgress);
         tbb::enumerable_thread_specific<ThreadScratch> scratch;
         std::vector<BlockOutput> outputs;
-        const std::size_t threads = std::max(1, tbb::this_task_arena::max_concurrency());
         const std::size_t blockCount = blockCluster_.size() - 1;
         for (std::size_t first = 0; first < blockCount;) {
             if (isCancelled(settings_.cancel)) return Error{kInterruptedMessage};
-            // A wave: blocks until about kWavePairs candidates, and at least one block a thread
-            // (a block is classified by one thread: the large clusters of scattered runs would
-            // otherwise leave the other threads idle).
+            // A wave: blocks until about kWavePairs candidates, and at least kMinWaveBlocks
+            // blocks (a block is classified by one thread: the large clusters of scattered runs
+            // would otherwise leave the other threads idle); the same on any machine.
             std::size_t last = first;
             uint64_t wave = 0;
-            while (last < blockCount && (last - first < threads || wave < kWavePairs)) {
+            while (last < blockCount && (last - first < kMinWaveBlocks || wave < kWavePairs)) {
                 const uint32_t begin = clusters_.cluster(blockCluster_[last]).begin;
                 const uint32_t end = clusters_.cluster(blockCluster_[last + 1] - 1).end;
                 for (uint32_t i = begin; i < end; ++i)
@@ -134,27 +130,16 @@ Expected<FormFactorResult> PairLoop::run() {
                                   }
                               });
             if (isCancelled(settings_.cancel)) return Error{kInterruptedMessage};
-            WaveEvaluation evaluated;
-            const uint64_t raysBefore = stats_.raysCast;
-            const uint64_t hiddenBefore = stats_.hiddenPairs;
-            const uint64_t tracedBefore = stats_.tracedPairs;
             for (bool traced : {false, true}) {
-                const auto evaluateStart = Clock::now();
                 Expected<void> done = evaluate(outputs, traced);
                 if (!done) return done.error();
-                (traced ? evaluated.tracedSeconds : evaluated.clearSeconds) =
-                    secondsSince(evaluateStart) * double(threads);
             }
-            evaluated.rays = stats_.raysCast - raysBefore;
-            evaluated.openTraced =
-                (stats_.tracedPairs - tracedBefore) - (stats_.hiddenPairs - hiddenBefore);
             uint64_t pairs = 0;
             for (const BlockOutput& out : outputs) {
                 addStats(stats_, out.stats);
                 pairs += out.pairs;
-                evaluated.clearPairs += out.clear.size();
             }
-            if (costModel_) correctCosts(outputs, evaluated);
+            if (costModel_) updateGate(outputs);
             progress.advance(pairs);
             first = last;
         }

@@ -3,8 +3,8 @@
 // its files and included by nothing else: form_factors_pair_loop.cpp (the waves, the batches
 // handed to the PairEvaluator, the CSR writes and the final compaction),
 // form_factors_candidates.cpp (the candidate pass and the row blocks), form_factors_culling.cpp
-// (each block's shaft culling and refinement) and form_factors_cost_model.cpp (the measured
-// costs that decide whether culling pays). One class because they share the matrix being built,
+// (each block's shaft culling and refinement) and form_factors_cost_model.cpp (the prices that
+// decide whether culling pays). One class because they share the matrix being built,
 // the clusters and the cost model's state.
 #include <cstdint>
 #include <memory>
@@ -40,9 +40,13 @@ constexpr double kRoundingRelative = 2.5e-7;
 constexpr uint32_t kMinRowBlockRows = 32;
 // Node pairs with at most this many patch pairs are traced rather than refined.
 constexpr uint64_t kMinRefinePairs = 4;
-// Row blocks are classified in waves of about this many candidate pairs, whose pairs are then
+// Row blocks are classified in waves of about this many candidate pairs, and at least
+// kMinWaveBlocks blocks (classification work for that many threads), whose pairs are then
 // evaluated in the backend's batches: the pending lists are bounded by the wave, not the scene.
+// Waves depend on the geometry alone, never on the thread count: the cost model's gate, updated
+// between waves, must see the same history on every machine.
 constexpr uint64_t kWavePairs = uint64_t(1) << 20;
+constexpr std::size_t kMinWaveBlocks = 8;
 // The cost model refines a node pair only while its shafts cost less than this fraction of
 // tracing its pairs: a split resolves only part of its pairs (most small shafts are truly
 // partly blocked), so it must be clearly cheaper to pay.
@@ -57,6 +61,15 @@ constexpr double kSmallRefineBenefit = 0.125;
 // With the gate closed (culling has cost more than its rays saved), one cluster pair in this
 // many is still culled, so the gate can open again where culling starts to pay.
 constexpr std::size_t kGateSample = 8;
+// The cost model's prices of culling (form_factors_cost_model.cpp): nanoseconds of one thread of
+// the reference machine (docs/performance.md), fixed, so that its choices are a function of the
+// geometry and the backend alone. Measured there (thread CPU time, the family's scenes): a shaft
+// build 520-2000 ns; a shaft-polygon test of a blocker a query kept (refinement, cover test)
+// 50-190 ns; within a blocker query, a BVH node 35 ns and a blocker 45 ns.
+constexpr double kShaftNs = 900;
+constexpr double kTestNs = 100;
+constexpr double kQueryNodeNs = 35;
+constexpr double kQueryBlockerNs = 45;
 
 // Candidate pairs (i < j, not facing away), one bit each; every row starts on a word boundary
 // so rows can be filled in parallel.
@@ -114,8 +127,7 @@ struct BlockOutput {
     std::vector<PendingPair> trace;  // the K rays
     FormFactorStats stats;
     uint64_t pairs = 0;  // unordered pairs of the block, for progress
-    double cullSeconds = 0;  // spent culling (thread seconds)
-    double cullPredicted = 0;  // what the calibrated model predicted for that work
+    double cullNs = 0;  // the culling it did, priced by the cost model (counted, not timed)
     // Empties the output for another block, keeping the lists' storage: a wave's lists are
     // hundreds of MB in all, and fresh storage each wave cost its page faults again.
     void reset() {
@@ -123,16 +135,8 @@ struct BlockOutput {
         trace.clear();
         stats = {};
         pairs = 0;
-        cullSeconds = 0;
-        cullPredicted = 0;
+        cullNs = 0;
     }
-};
-
-// One wave's evaluation, for the ray cost's correction: thread seconds of the clear and the
-// traced batches, the clear pairs, and the traced pairs' rays and open pairs (some ray through).
-struct WaveEvaluation {
-    double clearSeconds = 0, tracedSeconds = 0;
-    uint64_t clearPairs = 0, rays = 0, openTraced = 0;
 };
 
 struct ThreadScratch {
@@ -184,13 +188,18 @@ private:
     }
     void countCandidates();
     void calibrate();
+    // The price of one blocker query that visited `work`'s nodes and blockers, with its shaft.
+    static double queryNs(const BlockerQueryWork& work) {
+        return kShaftNs + double(work.nodes) * kQueryNodeNs +
+            double(work.blockers) * kQueryBlockerNs;
+    }
     void computeBlock(std::size_t block, ThreadScratch& scratch, BlockOutput& out);
     void computeCluster(std::size_t block, std::size_t a, ThreadScratch& scratch, BlockOutput& out);
     void refine(uint32_t nodeA, uint32_t nodeB, std::size_t lo, std::size_t hi, int depth,
                 const ClusterNode& rowCluster, const ClusterNode& columnCluster,
                 ThreadScratch& scratch, BlockOutput& out) const;
     bool covered(const ClusterNode& a, const ClusterNode& b, const uint32_t* blockers,
-                 std::size_t count) const;
+                 std::size_t count, BlockOutput& out) const;
     Expected<void> evaluate(const std::vector<BlockOutput>& outputs, bool traced);
     void buildRowBlocks();
     // Stores F_ij and, by reciprocity, F_ji = F_ij A_i / A_j (rounded once, from the float, with
@@ -201,21 +210,18 @@ private:
         matrix_.values[mirrorSlot] =
             static_cast<float>(double(fij) * (mesh_.areas[i] / mesh_.areas[j]));
     }
-    // Estimated seconds (one thread) of tracing `pairs` pairs.
+    // The model's price (ns, one thread) of tracing `pairs` pairs.
     double traceCost(uint64_t pairs) const {
-        return double(pairs) * settings_.raysPerPair * stats_.costRaySeconds * rayScale_;
+        return double(pairs) * settings_.raysPerPair * stats_.costRayNs;
     }
-    // Calibrated seconds (one thread) of `children` sub-shafts filtering `blockers` blockers,
-    // each also scanned by the cover test, before the online correction.
-    double splitBase(int children, std::size_t blockers) const {
-        return double(children) *
-            (stats_.costShaftSeconds + 2.0 * double(blockers) * stats_.costTestSeconds);
+    // The model's price of `children` sub-shafts filtering `blockers` blockers, each also
+    // scanned by the cover test.
+    static double splitCost(int children, std::size_t blockers) {
+        return double(children) * (kShaftNs + 2.0 * double(blockers) * kTestNs);
     }
-    // After each wave, the model corrects its own bias: the measured time of culling against
-    // what the calibrated model predicted for it (cumulative, clamped to [1/4, 16]); the rays'
-    // cost from the wave's batches (rayScale_); and the gate: culling stays on only while it
-    // has saved more ray time than it took.
-    void correctCosts(const std::vector<BlockOutput>& outputs, const WaveEvaluation& wave);
+    // After each wave, the gate: culling stays on only while it has saved more (the rays of the
+    // pairs it decided) than it cost, both priced by the model from what was counted.
+    void updateGate(const std::vector<BlockOutput>& outputs);
 
     const PatchMesh& mesh_;
     const FormFactorSettings& settings_;
@@ -227,16 +233,9 @@ private:
     CandidateBitmap candidates_;
     std::size_t batchPairs_;
     bool costModel_ = false;  // on once calibrated
-    double cullScale_ = 1;  // measured / predicted culling time so far
-    double cullSeconds_ = 0, cullPredicted_ = 0;
-    // The rays' correction, from the waves' own evaluation: thread seconds of the clear pairs'
-    // batches (kernel only) per pair, and of the traced batches less the kernel of their open
-    // pairs per ray; measured / calibrated ray cost, clamped to [1/4, 4].
-    double rayScale_ = 1;
-    double kernelSeconds_ = 0, raySeconds_ = 0;
-    uint64_t kernelPairs_ = 0, raysMeasured_ = 0;
-    // Open while culling has so far saved more ray time than it took; closed, only one cluster
-    // pair in kGateSample is culled (to keep measuring), the rest traced.
+    // Open while culling has so far saved more than it cost (the model's prices of the work
+    // counted); closed, only one cluster pair in kGateSample is culled (to keep counting), the
+    // rest traced.
     bool gateOpen_ = true;
     std::vector<uint32_t> lowerCount_;  // per row: candidates j < i
     std::vector<uint32_t> upperCount_;  // per row: candidates j > i

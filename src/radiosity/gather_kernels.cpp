@@ -1,5 +1,7 @@
 #include "radiosity/gather_kernels.h"
 
+#include "core/cpu_isa.h"
+
 #include <algorithm>
 #include <type_traits>
 
@@ -35,11 +37,12 @@ void accumulateFixed(const uint32_t* columns, const float* values, uint64_t begi
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define DAISY_SOLVER_X86_VARIANTS 1
-// Hand-vectorised variants, chosen at run time (bestAccumulate): one vector register per 8 (or
-// 4) wavelengths, and four independent sums (entries p, p+1, p+2, p+3 in turn) so consecutive
-// fused multiply-adds do not wait on each other's latency; the sums are added at the end in a
-// fixed order. Rounding differs from the plain loop (FMA, another order), but not with the
-// thread count: a row's entries are always summed the same way.
+// Hand-vectorised variants, chosen at run time (bestAccumulate, by cpuIsa(): core/cpu_isa.h): one
+// vector register per 8 (or 4) wavelengths, and four independent sums (entries p, p+1, p+2, p+3
+// in turn) so consecutive fused multiply-adds do not wait on each other's latency; the sums are
+// added at the end in a fixed order. Rounding differs from the plain loop (FMA, another order)
+// and between the AVX2 and AVX-512 variants, but not with the thread count: a row's entries are
+// always summed the same way.
 inline __attribute__((target("avx512f"))) __m512d load8(const double* p) {
     return _mm512_loadu_pd(p);
 }
@@ -301,25 +304,22 @@ template <typename T, std::size_t kM>
 AccumulateFn<T> bestAccumulate() {
 #ifdef DAISY_SOLVER_X86_VARIANTS
     if constexpr (std::is_same_v<T, float> && kM % 16 == 0) {
-        if (__builtin_cpu_supports("avx512f")) return accumulateAvx512Float<kM>;
+        if (cpuIsa() == CpuIsa::Avx512) return accumulateAvx512Float<kM>;
     }
     if constexpr (std::is_same_v<T, float> && kM % 8 == 0) {
-        if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
-            return accumulateAvx2Float<kM>;
+        if (cpuIsa() >= CpuIsa::Avx2) return accumulateAvx2Float<kM>;
     }
     if constexpr (kM % 8 == 0) {
-        if (__builtin_cpu_supports("avx512f")) return accumulateAvx512<T, kM>;
+        if (cpuIsa() == CpuIsa::Avx512) return accumulateAvx512<T, kM>;
     }
     if constexpr (kM % 4 == 0) {
-        if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
-            return accumulateAvx2<T, kM>;
+        if (cpuIsa() >= CpuIsa::Avx2) return accumulateAvx2<T, kM>;
     }
     if constexpr (kM >= 16 && kM % 8 != 0) {
-        if (__builtin_cpu_supports("avx512f")) return accumulateAvx512Tail<T, kM>;
+        if (cpuIsa() == CpuIsa::Avx512) return accumulateAvx512Tail<T, kM>;
     }
     if constexpr (kM >= 16 && kM % 4 != 0) {
-        if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
-            return accumulateAvx2Tail<T, kM>;
+        if (cpuIsa() >= CpuIsa::Avx2) return accumulateAvx2Tail<T, kM>;
     }
 #endif
     return accumulateFixed<T, kM>;

@@ -1,5 +1,6 @@
 #include "radiosity/hybrid_far_field.h"
 
+#include "core/cpu_isa.h"
 #include "shared/config.h"
 #include "shared/formfactor.h"
 
@@ -332,16 +333,14 @@ shared::PairFactors onePair(int method, int level, const PatchGeometry& i, const
 
 }  // namespace
 
-// The widest of the above the processor runs.
+// The widest of the above that cpuIsa() allows (core/cpu_isa.h: DAISY_ISA picks a narrower one).
 void pointToTriangleFactors(const FarFieldScratch& s, float* out) {
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-    static const bool avx512 = __builtin_cpu_supports("avx512f");
-    static const bool avx2 = __builtin_cpu_supports("avx2");
-    if (avx512) {
+    if (cpuIsa() == CpuIsa::Avx512) {
         pointToTriangleFactorsAvx512(s, out);
         return;
     }
-    if (avx2) {
+    if (cpuIsa() == CpuIsa::Avx2) {
         pointToTriangleFactorsAvx2(s, out);
         return;
     }

@@ -1,10 +1,10 @@
 #pragma once
 // The cpu backend's unoccluded pair factors: shared::pairFactors (shared/formfactor.h)
-// with the hybrid method's commonest cases evaluated four points at a time across pairs. When no
+// with the hybrid method's commonest cases evaluated 4-16 points at a time across pairs. When no
 // quadrature cell of i's clipped piece is near j (each is far, ratio >= DAISY_FF_FAR_RATIO: its
 // centroid, or in the middle band from DAISY_FF_MID_RATIO: the three-point rule; a root that far
 // is one cell; at the default L = 1 most pairs of a room), the pair's points join a batch whose
-// point-to-triangle factors are evaluated in SSE lanes, each lane with its own pair, by the same
+// point-to-triangle factors are evaluated in SIMD lanes, each lane with its own pair, by the same
 // operations in the same order as the shared kernel, so every result is bit-identical to it
 // (checked by tests/radiosity/hybrid_far_field_test.cpp). Points whose view of j must be clipped,
 // pairs with a near cell, levels above 2 and the other methods are the shared kernel itself.
@@ -53,8 +53,8 @@ struct FarFieldPatch {
 std::vector<FarFieldPatch> farFieldPatches(std::span<const shared::PatchGeometry> geometry);
 
 // out[k] = shared::pointToTriangleFactor(p.position, p.receiver->normal, *p.target) for every
-// point p = s.points[k], bit-identical, in SSE or AVX2 lanes (the final gather's lights use it
-// too). s.values is not touched.
+// point p = s.points[k], bit-identical, in SSE, AVX2 or AVX-512 lanes as cpuIsa() allows
+// (core/cpu_isa.h; the final gather's lights use it too). s.values is not touched.
 void pointToTriangleFactors(const FarFieldScratch& s, float* out);
 
 // shared::pairFactors(method, level, i, j), with the hybrid method's far cells vectorised.

@@ -26,6 +26,12 @@ public:
     virtual std::string name() const = 0;
     // The most pairs one evaluate() call takes (sized for the device's buffers); >= 1.
     virtual std::size_t batchPairs() const = 0;
+    // What one shadow segment costs, for the driver's cost model (form_factors_cost_model.cpp):
+    // nanoseconds of one thread of the reference machine (docs/performance.md), the segment's
+    // share of its pair's tracing included. A constant of the backend and its device, never a
+    // timing of this build: the model's choices decide which pairs are traced, so they must not
+    // follow the machine's load.
+    virtual double segmentNs() const = 0;
     // out[k] = {F_ij, F_ji} of pairs[k] = (i, j), i < j, a candidate pair (not facing away):
     // the unoccluded factors (shared/formfactor.h, the accurate direction computed and the
     // other by reciprocity in float, negative rounding clamped to 0) times V_ij, the

@@ -21,6 +21,11 @@ using shared::PairFactors;
 using shared::PairIndex;
 using shared::PatchGeometry;
 
+// One traced segment on the reference machine: Embree's packet, the watertight filter on its
+// candidates, the sample streams and the pair's share of batching (124-150 ns measured on the
+// family's scenes at K = 4, docs/performance.md).
+constexpr double kSegmentNs = 140;
+
 // Pairs one call takes: the driver's batches; each task traces at most kTaskSegments segments
 // at once (1.5 MB of scratch a thread), so a large --rays cannot make the scratch grow.
 constexpr std::size_t kBatchPairs = std::size_t(1) << 16;
@@ -48,6 +53,7 @@ public:
 
     std::string name() const override { return "cpu"; }
     std::size_t batchPairs() const override { return kBatchPairs; }
+    double segmentNs() const override { return kSegmentNs; }
 
     Expected<void> evaluate(std::span<const PairIndex> pairs, int rays,
                             std::span<PairFactors> out) override {

@@ -5,16 +5,16 @@
 #include <cmath>
 #include <vector>
 
+#include "core/cpu_isa.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
 
 // The hot loops below vectorise across samples; with AVX2 (per-lane variable shifts for the PCG
-// hash) they run about twice as fast, so x86-64 builds carry an AVX2 clone picked at load time.
-// No FMA is enabled, so both clones round exactly like the scalar shared code.
+// hash) they run about twice as fast, so x86-64 builds carry an AVX2 variant of each entry point,
+// used when cpuIsa() allows it (core/cpu_isa.h: DAISY_ISA=sse2 runs the baseline one on any
+// machine). No FMA is enabled, so both variants round exactly like the scalar shared code.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define DAISY_SAMPLES_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define DAISY_SAMPLES_CLONES
+#define DAISY_SAMPLES_AVX2 1
 #endif
 
 namespace daisy {
@@ -102,28 +102,90 @@ template <int kLanes>
     std::copy(pz, pz + count, z);
 }
 
-DAISY_SAMPLES_CLONES
-void stratifiedBlock(uint32_t seed, int first, int count, int total, const PatchGeometry& t,
-                     float* x, float* y, float* z) {
-    stratifiedBlockOf<kBlock>(seed, first, count, total, t, x, y, z);
+// Segments pi[k] -> pj[k] trimmed `clearance` off both patch planes, and their kernel weights
+// (shadowSegments' contract).
+[[gnu::always_inline]] inline void trimSegmentsOf(int count, const float* xi, const float* yi,
+                                                  const float* zi, const float* xj, const float* yj,
+                                                  const float* zj, vec3 ni, vec3 nj,
+                                                  float clearance, float* __restrict ox,
+                                                  float* __restrict oy, float* __restrict oz,
+                                                  float* __restrict ex, float* __restrict ey,
+                                                  float* __restrict ez, float* __restrict weight) {
+    for (int k = 0; k < count; ++k) {
+        const float dx = xj[k] - xi[k], dy = yj[k] - yi[k], dz = zj[k] - zi[k];
+        const float cosI = ni.x * dx + ni.y * dy + ni.z * dz;
+        const float cosJ = -(nj.x * dx + nj.y * dy + nj.z * dz);
+        const float leave = std::fabs(cosI);
+        const float arrive = std::fabs(cosJ);
+        const float r2 = dx * dx + dy * dy + dz * dz;
+        weight[k] = r2 > 0.0f && cosI > 0.0f && cosJ > 0.0f ? (cosI / r2) * (cosJ / r2) : 0.0f;
+        float t0 = clearance / leave;  // +inf when leave = 0: empty below
+        float t1 = 1.0f - clearance / arrive;
+        if (!(t0 < t1)) t0 = t1 = 0.0f;
+        ox[k] = xi[k] + dx * t0;
+        oy[k] = yi[k] + dy * t0;
+        oz[k] = zi[k] + dz * t0;
+        ex[k] = xi[k] + dx * t1;
+        ey[k] = yi[k] + dy * t1;
+        ez[k] = zi[k] + dz * t1;
+    }
 }
 
-DAISY_SAMPLES_CLONES
-void stratifiedSmallBlock(uint32_t seed, int count, const PatchGeometry& t, float* x, float* y,
-                          float* z) {
-    stratifiedBlockOf<kSmallBlock>(seed, 0, count, count, t, x, y, z);
+// The entry points, once per target: the bodies above inlined into each take its instructions.
+struct SampleKernels {
+    void (*block)(uint32_t seed, int first, int count, int total, const PatchGeometry& t, float* x,
+                  float* y, float* z);
+    void (*smallBlock)(uint32_t seed, int count, const PatchGeometry& t, float* x, float* y,
+                       float* z);
+    void (*trim)(int count, const float* xi, const float* yi, const float* zi, const float* xj,
+                 const float* yj, const float* zj, vec3 ni, vec3 nj, float clearance, float* ox,
+                 float* oy, float* oz, float* ex, float* ey, float* ez, float* weight);
+};
+
+#define DAISY_SAMPLE_KERNELS(ATTRIBUTE, NAME)                                                      \
+    ATTRIBUTE void NAME##Block(uint32_t seed, int first, int count, int total,                     \
+                               const PatchGeometry& t, float* x, float* y, float* z) {             \
+        stratifiedBlockOf<kBlock>(seed, first, count, total, t, x, y, z);                          \
+    }                                                                                              \
+    ATTRIBUTE void NAME##SmallBlock(uint32_t seed, int count, const PatchGeometry& t, float* x,    \
+                                    float* y, float* z) {                                          \
+        stratifiedBlockOf<kSmallBlock>(seed, 0, count, count, t, x, y, z);                         \
+    }                                                                                              \
+    ATTRIBUTE void NAME##Trim(int count, const float* xi, const float* yi, const float* zi,        \
+                              const float* xj, const float* yj, const float* zj, vec3 ni, vec3 nj, \
+                              float clearance, float* __restrict ox, float* __restrict oy,         \
+                              float* __restrict oz, float* __restrict ex, float* __restrict ey,    \
+                              float* __restrict ez, float* __restrict weight) {                    \
+        trimSegmentsOf(count, xi, yi, zi, xj, yj, zj, ni, nj, clearance, ox, oy, oz, ex, ey, ez,   \
+                       weight);                                                                    \
+    }                                                                                              \
+    constexpr SampleKernels NAME##Kernels{NAME##Block, NAME##SmallBlock, NAME##Trim};
+
+DAISY_SAMPLE_KERNELS(, baseline)
+#ifdef DAISY_SAMPLES_AVX2
+DAISY_SAMPLE_KERNELS(__attribute__((target("avx2"))), avx2)
+#endif
+
+const SampleKernels& sampleKernels() {
+#ifdef DAISY_SAMPLES_AVX2
+    static const SampleKernels& chosen = cpuIsa() >= CpuIsa::Avx2 ? avx2Kernels : baselineKernels;
+    return chosen;
+#else
+    return baselineKernels;
+#endif
 }
 
 // All `count` points of one stream, in index order.
 void stratifiedPoints(uint32_t seed, int count, const PatchGeometry& t, float* x, float* y,
                       float* z) {
+    const SampleKernels& kernels = sampleKernels();
     if (count <= kSmallBlock) {
-        stratifiedSmallBlock(seed, count, t, x, y, z);
+        kernels.smallBlock(seed, count, t, x, y, z);
         return;
     }
     for (int first = 0; first < count; first += kBlock) {
         const int n = std::min(kBlock, count - first);
-        stratifiedBlock(seed, first, n, count, t, x + first, y + first, z + first);
+        kernels.block(seed, first, n, count, t, x + first, y + first, z + first);
     }
 }
 
@@ -149,32 +211,6 @@ void samplesSoA(uint32_t pairSeedValue, int count, const PatchGeometry& i, const
         x2[k] = x1[m];
         y2[k] = y1[m];
         z2[k] = z1[m];
-    }
-}
-
-DAISY_SAMPLES_CLONES
-void trimSegments(int count, const float* xi, const float* yi, const float* zi, const float* xj,
-                  const float* yj, const float* zj, vec3 ni, vec3 nj, float clearance,
-                  float* __restrict ox, float* __restrict oy, float* __restrict oz,
-                  float* __restrict ex, float* __restrict ey, float* __restrict ez,
-                  float* __restrict weight) {
-    for (int k = 0; k < count; ++k) {
-        const float dx = xj[k] - xi[k], dy = yj[k] - yi[k], dz = zj[k] - zi[k];
-        const float cosI = ni.x * dx + ni.y * dy + ni.z * dz;
-        const float cosJ = -(nj.x * dx + nj.y * dy + nj.z * dz);
-        const float leave = std::fabs(cosI);
-        const float arrive = std::fabs(cosJ);
-        const float r2 = dx * dx + dy * dy + dz * dz;
-        weight[k] = r2 > 0.0f && cosI > 0.0f && cosJ > 0.0f ? (cosI / r2) * (cosJ / r2) : 0.0f;
-        float t0 = clearance / leave;  // +inf when leave = 0: empty below
-        float t1 = 1.0f - clearance / arrive;
-        if (!(t0 < t1)) t0 = t1 = 0.0f;
-        ox[k] = xi[k] + dx * t0;
-        oy[k] = yi[k] + dy * t0;
-        oz[k] = zi[k] + dz * t0;
-        ex[k] = xi[k] + dx * t1;
-        ey[k] = yi[k] + dy * t1;
-        ez[k] = zi[k] + dz * t1;
     }
 }
 
@@ -215,9 +251,10 @@ void shadowSegments(uint32_t pairSeedValue, int count, const PatchGeometry& i,
     float* b = buffers.data;
     samplesSoA(pairSeedValue, count, i, j, b, b + n, b + 2 * n, b + 3 * n, b + 4 * n, b + 5 * n,
                b + 6 * n);
-    trimSegments(count, b, b + n, b + 2 * n, b + 3 * n, b + 4 * n, b + 5 * n, i.normal, j.normal,
-                 clearance, out.x0.data() + offset, out.y0.data() + offset, out.z0.data() + offset,
-                 out.x1.data() + offset, out.y1.data() + offset, out.z1.data() + offset, weights);
+    sampleKernels().trim(count, b, b + n, b + 2 * n, b + 3 * n, b + 4 * n, b + 5 * n, i.normal,
+                         j.normal, clearance, out.x0.data() + offset, out.y0.data() + offset,
+                         out.z0.data() + offset, out.x1.data() + offset, out.y1.data() + offset,
+                         out.z1.data() + offset, weights);
 }
 
 }  // namespace daisy

@@ -14,7 +14,9 @@ class EmbreeRayCaster final : public RayCaster {
 public:
     // Builds the scene. Fails (no crash) when Embree cannot create a device or scene.
     // options.robust sets RTC_SCENE_FLAG_ROBUST; options.packetMode picks rtcOccluded1,
-    // rtcOccluded4/8/16 (coherent context) or the stream API rtcOccluded1M.
+    // rtcOccluded4/8/16 or the stream API rtcOccluded1M (incoherent contexts: the segments of a
+    // packet point every way); options.watertightSegments decides segments with the shared
+    // watertight test.
     static Expected<std::unique_ptr<EmbreeRayCaster>> create(const PatchMesh& mesh,
                                                              const RayCasterOptions& options);
     ~EmbreeRayCaster() override;

@@ -15,9 +15,10 @@
 
 namespace daisy {
 
-// How occlusion queries are issued: one ray at a time, SIMD packets of 4/8/16 rays (coherent),
-// or a stream of single rays handed over in batches. The answers do not depend on it; only the
-// speed does (docs/performance.md).
+// How occlusion queries are issued: one ray at a time, SIMD packets of 4/8/16 rays, or a stream
+// of single rays handed over in batches. With watertightSegments the answers do not depend on
+// it, otherwise only on segments within float rounding of an edge; the speed does
+// (docs/performance.md).
 enum class PacketMode { Single, Packet4, Packet8, Packet16, Stream };
 
 // "single", "packet4", "packet8", "packet16" or "stream".
@@ -26,8 +27,15 @@ const char* packetModeName(PacketMode mode);
 struct RayCasterOptions {
     PacketMode packetMode = PacketMode::Packet16;
     // Watertight triangle tests, so a ray through an edge shared by two patches hits one of them
-    // (primary and gather rays; the view factors do not need it).
+    // (primary and gather rays).
     bool robust = false;
+    // occluded() and closestHits() decide every hit with the shared watertight test
+    // (shared/intersect.h), the reference backend's: Embree only proposes candidates, over
+    // triangles grown slightly, and a filter keeps those the watertight test hits. So a
+    // segment's answer is a function of the segment alone, the same for every packet mode and
+    // every instruction set Embree runs (the view factors of the cpu backend). Not for
+    // closestSurfaceHits (its barycentrics would be the grown triangle's).
+    bool watertightSegments = false;
 };
 
 class RayCaster {

@@ -315,7 +315,10 @@ Expected<FormFactorResult> VulkanBackend::buildFormFactors(const PatchMesh& mesh
         }
     };
     Passes passes(*this, params, pairBuffer, resultBuffer, dispatchPairs);
-    GpuPassEvaluator evaluator("vulkan", batchPairs, params.method, passes);
+    GpuPassEvaluator evaluator("vulkan", batchPairs, params.method, passes,
+                               context_.properties.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU
+                                   ? kCpuDeviceSegmentNs
+                                   : kGpuSegmentNs);
     pipelinesMade_ = 0;
     pipelineSeconds_ = 0;
     auto result = computeFormFactors(mesh, settings, evaluator);

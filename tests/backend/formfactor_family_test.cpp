@@ -65,12 +65,16 @@ protected:
     }
 };
 
-// Culling with the cost model against the oracle, entry by entry: equal up to kernel rounding
-// (1e-4 relative: the GPU backends' float arithmetic differs from the CPU's in the last bits) but
+// Culling with the cost model against the oracle, entry by entry. The cpu backend decides every
+// segment with the oracle's own watertight test and computes the oracle's kernel bit for bit, so
+// on these scenes it agrees on every entry, on every instruction set (ctest runs this again with
+// DAISY_ISA=avx2 and sse2): with Embree's coherent packets it had 838 (AVX-512), 1,324 (AVX2) and
+// 1,198 (SSE2) entries of the cluttered scene apart. The GPU backends may differ by kernel
+// rounding (1e-4 relative: their float arithmetic differs from the CPU's in the last bits) and,
 // for segments that graze an edge, on at most 1% of entries, nearly all within 2 of the 16 rays'
 // worth (F_unoccluded / 8). Boxes standing on the floor (scene (d)) have pairs whose segments run
-// through the contact edge, where CPU rays and our traversal decide differently: at most 4 entries
-// (2 pairs) or 1 in 10^4 may differ by more.
+// through the contact edge, where a compiler's rounding decides: at most 4 entries (2 pairs) or
+// 1 in 10^4 may differ by more.
 TEST_P(FormFactorFamily, AgreesWithTheReferenceEntryByEntry) {
     const std::string scene = std::get<0>(GetParam());
     const PatchMesh mesh = familyMesh(scene);
@@ -86,6 +90,9 @@ TEST_P(FormFactorFamily, AgreesWithTheReferenceEntryByEntry) {
     const uint64_t entries = unoccluded->matrix.nonzeroCount();
     ASSERT_GT(entries, 0u);
     const MatrixComparison c = compareMatrices(result->matrix, oracle(scene), {1e-4, 0, 64});
+    if (std::get<1>(GetParam()) == std::string("cpu")) {
+        EXPECT_EQ(c.overTolerance, 0u) << c.overTolerance << " of " << entries;
+    }
     EXPECT_LE(c.overTolerance, entries / 100) << c.overTolerance << " of " << entries;
     uint64_t beyondTwoRays = 0;
     for (const EntryDifference& d : c.worst) {

@@ -36,7 +36,9 @@ using verify::perpendicularSquares;
 
 FormFactorResult build(const PatchMesh& mesh, FormFactorSettings settings) {
     settings.progress = false;
-    auto caster = makeRayCaster(mesh);
+    // The cpu backend's ray caster.
+    auto caster =
+        makeRayCaster(mesh, {.packetMode = PacketMode::Stream, .watertightSegments = true});
     EXPECT_TRUE(caster.ok());
     auto result = computeFormFactors(mesh, settings, **caster);
     EXPECT_TRUE(result.ok()) << (result.ok() ? "" : result.error().message);
