@@ -502,6 +502,14 @@ section_large() {
             exit 1
         fi
         verdict[$name]="**refused** in $(field "large-f-$name" 1) s (status 2): $(sed -n 's/.*needs about \([^,]*\) for .*, more than \(--max-memory [^;]*\);.*/\1, \2/p' "$work/large-f-$name.log")"
+        # daisy bench reports the refusal as a row and keeps the path tracer's rows.
+        run "large-bench-$name" env XDG_CACHE_HOME="$cache" "$daisy" bench "$scene" --quick \
+            "${largeArgs[@]}" -o "$work/large-bench-$name.csv"
+        grep -q '^refused,' "$work/large-bench-$name.csv" || {
+            echo "bench_all: daisy bench $(rel "$scene") --quick has no refused row" >&2
+            exit 1
+        }
+        verdict[$name]+="; \`daisy bench --quick\`: $(grep -c '^path,' "$work/large-bench-$name.csv") path rows and a refused row in $(field "large-bench-$name" 1) s (status 0)"
     done
     {
         echo "| scene | triangles | patches | \`daisy info\` wall | peak RSS | all-pairs F (info's estimate) | all-pairs build |"
@@ -514,8 +522,9 @@ section_large() {
         [[ -n $blender ]] || echo "| (Blender's export) | | | | | not run: no blender (Debian package blender) | |"
         stamp "python3 tools/make_large_interior.py --triangles N -o $(shown "$dir")/large_interior_N.gltf" \
               "$([[ -n $blender ]] && echo "blender --background --factory-startup --python tools/blender_reexport.py -- $(shown "${scenes[-2]}" "$blender")")" \
-              "XDG_CACHE_HOME=\$TMP/xdg /usr/bin/time $(shown "$daisy" info) SCENE ${largeArgs[*]}" \
-              "XDG_CACHE_HOME=\$TMP/xdg /usr/bin/time $(shown "$daisy" formfactors) SCENE ${largeArgs[*]} --no-cache -o \$TMP/F.mtx   # where info says it would be refused"
+              "XDG_CACHE_HOME=\$TMP/xdg /usr/bin/time $(shown "$daisy" info) SCENE${largeArgs[*]:+ ${largeArgs[*]}}" \
+              "XDG_CACHE_HOME=\$TMP/xdg /usr/bin/time $(shown "$daisy" formfactors) SCENE${largeArgs[*]:+ ${largeArgs[*]}} --no-cache -o \$TMP/F.mtx   # where info says it would be refused" \
+              "XDG_CACHE_HOME=\$TMP/xdg /usr/bin/time $(shown "$daisy" bench) SCENE --quick${largeArgs[*]:+ ${largeArgs[*]}} -o \$TMP/large-bench-SCENE.csv   # there too"
     } | table large
 }
 
