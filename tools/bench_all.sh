@@ -14,7 +14,7 @@
 #               for the next run); without it that table is left as it is
 #   --dry-run   print the commands, run nothing, write nothing
 #   --doc FILE  the document to update (default docs/performance.md; none with --quick)
-#   --only      a subset of: main-job view-factors family solve gpu viewer accuracy
+#   --only      a subset of: main-job view-factors family solve gpu viewer large accuracy
 #   --rounds N  rounds of each timed command (default 5 for the main job, 3 elsewhere)
 # Exit status: 0 done, 1 a measurement failed (its log is printed), 2 bad usage.
 set -euo pipefail
@@ -25,7 +25,7 @@ usage() { awk 'NR >= 8 && /^#/ { sub(/^# ?/, ""); print; next } NR >= 8 { exit }
 build="$(cd "$1" && pwd)" || usage
 shift
 quick=0 accuracy=0 dry=0 doc="" docGiven=0 rounds=""
-only="main-job,view-factors,family,solve,gpu,viewer"
+only="main-job,view-factors,family,solve,gpu,viewer,large"
 while [[ $# -gt 0 ]]; do
     case "$1" in
         --quick) quick=1 ;;
@@ -64,6 +64,8 @@ if [[ $quick == 1 ]]; then
     idleFrames=20
     posterEdit='light.reflectance=rgb(0.2,0.6,0.9)'
     accuracyRuns=("cornell_box 0")  # 0: daisy bench --quick
+    largeSizes=(5000 20000)
+    largeArgs=(--max-memory 64M)  # so that the refusal is exercised too
     rounds="${rounds:-1}"
     mainRounds=$rounds
 else
@@ -77,6 +79,8 @@ else
     idleFrames=300
     posterEdit='poster_white.reflectance=rgb(0.2,0.6,0.9)'
     accuracyRuns=("cornell_box 4096" "colored_lights 2048" "blacklight_box 8192")
+    largeSizes=(30000 250000)
+    largeArgs=()
     mainRounds="${rounds:-5}"
     rounds="${rounds:-3}"
 fi
@@ -460,6 +464,70 @@ section_accuracy() {
     } | table accuracy
 }
 
+section_large() {
+    # The large interior (tools/make_large_interior.py), generated into BUILD_DIR/scenes (too
+    # large to commit), at each size and as Blender's own export of the largest (when blender is
+    # installed): load and estimate with `daisy info`, then the all-pairs matrix where info says
+    # --max-memory refuses it, which must be a clean refusal (exit status 2, one line).
+    local dir="$build/scenes" n scene name
+    local scenes=()
+    for n in "${largeSizes[@]}"; do
+        scene="$dir/large_interior_$n.gltf"
+        run "large-gen-$n" python3 "$root/tools/make_large_interior.py" --triangles "$n" -o "$scene"
+        scenes+=("$scene")
+    done
+    local blender=""
+    if command -v blender >/dev/null 2>&1; then
+        blender="$dir/large_interior_${largeSizes[-1]}_blender.glb"
+        run large-blender blender --background --factory-startup --python \
+            "$root/tools/blender_reexport.py" -- "${scenes[-1]}" "$blender"
+        scenes+=("$blender")
+    fi
+    [[ $dry == 1 ]] && return 0
+    local -A verdict=()
+    for scene in "${scenes[@]}"; do
+        name=$(basename "${scene%.*}")
+        run "large-info-$name" env XDG_CACHE_HOME="$cache" "$daisy" info "$scene" "${largeArgs[@]}"
+        verdict[$name]="fits under --max-memory: not built here (all pairs)"
+        grep -q 'would be refused' "$work/large-info-$name.log" || continue
+        local status=0
+        echo "+ $(shown "$daisy" formfactors "$scene" "${largeArgs[@]}") --no-cache -o \$TMP/F.mtx" >&2
+        /usr/bin/time -f '%e %U %S %M' -o "$work/large-f-$name.time" env XDG_CACHE_HOME="$cache" \
+            "$daisy" formfactors "$scene" "${largeArgs[@]}" --no-cache -o "$work/F.mtx" \
+            >"$work/large-f-$name.log" 2>&1 || status=$?
+        if [[ $status != 2 || -e $work/F.mtx ]] || ! grep -q 'more than --max-memory' "$work/large-f-$name.log" \
+            || [[ $(grep -c '^error: ' "$work/large-f-$name.log") != 1 ]]; then
+            echo "bench_all: the all-pairs build of $(rel "$scene") was not refused cleanly (status $status)" >&2
+            tail -n 30 "$work/large-f-$name.log" >&2
+            exit 1
+        fi
+        verdict[$name]="**refused** in $(field "large-f-$name" 1) s (status 2): $(sed -n 's/.*needs about \([^,]*\) for .*, more than \(--max-memory [^;]*\);.*/\1, \2/p' "$work/large-f-$name.log")"
+        # daisy bench reports the refusal as a row and keeps the path tracer's rows.
+        run "large-bench-$name" env XDG_CACHE_HOME="$cache" "$daisy" bench "$scene" --quick \
+            "${largeArgs[@]}" -o "$work/large-bench-$name.csv"
+        grep -q '^refused,' "$work/large-bench-$name.csv" || {
+            echo "bench_all: daisy bench $(rel "$scene") --quick has no refused row" >&2
+            exit 1
+        }
+        verdict[$name]+="; \`daisy bench --quick\`: $(grep -c '^path,' "$work/large-bench-$name.csv") path rows and a refused row in $(field "large-bench-$name" 1) s (status 0)"
+    done
+    {
+        echo "| scene | triangles | patches | \`daisy info\` wall | peak RSS | all-pairs F (info's estimate) | all-pairs build |"
+        echo "|---|---|---|---|---|---|---|"
+        for scene in "${scenes[@]}"; do
+            name=$(basename "${scene%.*}")
+            local log="$work/large-info-$name.log"
+            echo "| $name | $(awk '$1 == "triangles" { print $2 }' "$log") | $(sed -n 's/^patches *\([0-9,]*\).*/\1/p' "$log") | **$(field "large-info-$name" 1) s** | $(mib "$(field "large-info-$name" 4)") MiB | $(sed -n 's/^matrix *~\([0-9,]*\) non-zeros.*, \([^,]*\) as CSR$/\1 non-zeros, \2/p' "$log") | ${verdict[$name]} |"
+        done
+        [[ -n $blender ]] || echo "| (Blender's export) | | | | | not run: no blender (Debian package blender) | |"
+        stamp "python3 tools/make_large_interior.py --triangles N -o $(shown "$dir")/large_interior_N.gltf" \
+              "$([[ -n $blender ]] && echo "blender --background --factory-startup --python tools/blender_reexport.py -- $(shown "${scenes[-2]}" "$blender")")" \
+              "XDG_CACHE_HOME=\$TMP/xdg /usr/bin/time $(shown "$daisy" info) SCENE${largeArgs[*]:+ ${largeArgs[*]}}" \
+              "XDG_CACHE_HOME=\$TMP/xdg /usr/bin/time $(shown "$daisy" formfactors) SCENE${largeArgs[*]:+ ${largeArgs[*]}} --no-cache -o \$TMP/F.mtx   # where info says it would be refused" \
+              "XDG_CACHE_HOME=\$TMP/xdg /usr/bin/time $(shown "$daisy" bench) SCENE --quick${largeArgs[*]:+ ${largeArgs[*]}} -o \$TMP/large-bench-SCENE.csv   # there too"
+    } | table large
+}
+
 # replace DOC: puts each table of $work/tables into DOC between its markers; every marker pair
 # must exist exactly once.
 replace() {
@@ -481,7 +549,7 @@ EOF
 }
 
 echo "bench_all: $(machine); load average $(cut -d' ' -f1-3 /proc/loadavg); build $build" >&2
-for section in main-job view-factors family solve gpu viewer accuracy; do
+for section in main-job view-factors family solve gpu viewer large accuracy; do
     wants "$section" || continue
     [[ $section == accuracy && $accuracy == 0 ]] && continue
     echo "bench_all: $section" >&2

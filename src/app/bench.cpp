@@ -142,6 +142,11 @@ Expected<int> runPathBench(const CommonOptions& options, const BenchOptions& ben
                    "% (emitter pixels and 2 around them left out)"));
 
     const auto report = [](const PathBenchRow& row) {
+        if (row.kind == "refused") {
+            logWarning(concat("  refused   ", row.label, " (", formatCount(row.patches),
+                              " patches): no radiosity rows at this size or finer"));
+            return;
+        }
         char line[256];
         std::snprintf(line, sizeof line, "  %-9s %-26s %9.3f %8llu %9.2f%% %9.2f%% %8.3f %8.3f",
                       row.kind.c_str(), row.label.c_str(), row.seconds,

@@ -242,6 +242,22 @@ Expected<void> PathBench::runRadiosityRows(const PathBenchFiles& files,
         settings.subdivideMaxEdge = divisor == 1 ? s.first->patchMaxEdge() : s.autoEdge / divisor;
         auto session = Session::open(settings);
         if (!session) return session.error();
+        const std::string size = divisor == 1 ? std::string("auto") : concat("edge/", divisor);
+        // An all-pairs F over --max-memory: one "refused" row (the finer sizes would need
+        // more), and the path tracer's rows still stand.
+        if (const uint64_t bytes = session->matrixEstimate().matrixBytes;
+            bytes > settings.maxMemoryBytes) {
+            PathBenchRow row{
+                "refused",
+                concat(size, ": F needs about ", formatBytes(double(bytes)),
+                       ", more than --max-memory ", formatBytes(double(settings.maxMemoryBytes))),
+                0,
+                session->patches().patchCount(),
+                {}};
+            onRow(row);
+            rows.push_back(row);
+            break;
+        }
         if (auto f = session->buildFormFactors(); !f) return f.error();
         if (auto solved = session->solve(); !solved) return solved.error();
         const double pipelineSeconds = timer.seconds();
@@ -255,8 +271,7 @@ Expected<void> PathBench::runRadiosityRows(const PathBenchFiles& files,
             auto rendered = renderRadiosityImage(*session, s.camera, image, mode, direct, false);
             if (!rendered) return Error{concat(scenePath, ": ", rendered.error().message)};
             PathBenchRow row{"radiosity",
-                             concat(divisor == 1 ? std::string("auto") : concat("edge/", divisor),
-                                    ", gather ", gatherModeName(mode), ", ", samples, " spp",
+                             concat(size, ", gather ", gatherModeName(mode), ", ", samples, " spp",
                                     edgeSamples > 0 ? concat(" (", edgeSamples, " at edges)") : ""),
                              pipelineSeconds + imageTimer.seconds(),
                              session->patches().patchCount(),
@@ -292,8 +307,12 @@ Expected<void> PathBench::writeFiles(const PathBenchFiles& files,
             << "; reference noise " << s.reference.noise << "\n";
         out << "kind,setting,seconds,patches,rms_y,rms_y_raw,mean_de76,mean_de2000,p95_de2000\n";
         for (const PathBenchRow& row : rows) {
-            out << row.kind << ',' << '"' << row.label << '"' << ',' << row.seconds << ','
-                << row.patches << ',' << row.error.relativeRmsYDenoised << ','
+            out << row.kind << ',' << '"' << row.label << '"' << ',';
+            if (row.kind == "refused") {
+                out << ',' << row.patches << ",,,,,\n";  // no run, no image
+                continue;
+            }
+            out << row.seconds << ',' << row.patches << ',' << row.error.relativeRmsYDenoised << ','
                 << row.error.relativeRmsY << ',' << row.error.meanDeltaE76 << ','
                 << row.error.meanDeltaE2000 << ',' << row.error.p95DeltaE2000 << '\n';
         }
@@ -314,6 +333,7 @@ Expected<void> PathBench::writeFiles(const PathBenchFiles& files,
     chart.seriesNames = {"path tracer", "radiosity", "+ direct gather", "+ edge AA",
                          "+ near field"};
     for (const PathBenchRow& row : rows) {
+        if (row.kind == "refused") continue;
         const int series = row.kind == "path"                      ? 0
             : row.label.find("gather near") != std::string::npos   ? 4
             : row.label.find("at edges") != std::string::npos      ? 3

@@ -54,7 +54,8 @@ PathBenchFiles pathBenchFiles(const std::string& scenePath, const std::string& o
                               const std::string& cacheDir);
 
 struct PathBenchRow {
-    std::string kind;  // "path" | "radiosity"
+    // "path" | "radiosity" | "refused" (F over --max-memory: label says so, no run, no error)
+    std::string kind;
     std::string label;
     double seconds = 0;
     uint64_t patches = 0;  // 0 for the path tracer
@@ -84,6 +85,8 @@ public:
     Expected<PathReferenceSummary> reference(const std::string& cachePath);
     // The path tracer's curve, then the radiosity rows (writing their error images, failures to
     // write logged as warnings), each passed to `onRow` as it is measured and appended to `rows`.
+    // A patch size whose all-pairs F is over --max-memory gives one "refused" row and ends
+    // the radiosity rows (the finer sizes need more).
     Expected<void> runPathRows(std::vector<PathBenchRow>& rows,
                                const std::function<void(const PathBenchRow&)>& onRow);
     Expected<void> runRadiosityRows(const PathBenchFiles& files, std::vector<PathBenchRow>& rows,

@@ -138,5 +138,28 @@ TEST(BenchPathCli, ReferenceResumesFromItsCachedChunks) {
     EXPECT_NE(early.output.find("bench: reference 32 spp"), std::string::npos) << early.output;
 }
 
+// An all-pairs F over --max-memory (the Cornell box's is about 71 MiB at the automatic size,
+// `daisy info`) is a "refused" row, not a failure: the path tracer's rows stand, the run
+// exits 0, and no radiosity row is measured.
+TEST(BenchPathCli, MatrixOverTheMemoryLimitIsARefusedRow) {
+    const auto dir = test::testTempDir();
+    const std::string csv = (dir / "cb.csv").string();
+    const RunResult run = runDaisy("bench " + test::assetPath("scenes/cornell_box.gltf") +
+                                   " --reference path --quick --max-memory 40M -o " + csv);
+    ASSERT_EQ(run.status, 0) << run.output;
+    EXPECT_NE(run.output.find("warning:   refused   auto: F needs about"), std::string::npos)
+        << run.output;
+    const std::map<std::string, double> rows = rmsBySetting(csv);
+    EXPECT_TRUE(rows.count("path,1 spp") && rows.count("path,4 spp"));
+    std::size_t refused = 0, radiosity = 0;
+    for (const auto& [setting, rms] : rows) {
+        refused += setting.rfind("refused,auto: F needs about ", 0) == 0 &&
+            setting.find(", more than --max-memory 40.0 MiB") != std::string::npos;
+        radiosity += setting.rfind("radiosity,", 0) == 0;
+    }
+    EXPECT_EQ(refused, 1u);
+    EXPECT_EQ(radiosity, 0u);
+}
+
 }  // namespace
 }  // namespace daisy
