@@ -81,6 +81,18 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
     command.add_option("--method", options.method, "Form-factor method")
         ->check(CLI::IsMember(formFactorMethodNames()))
         ->capture_default_str();
+    command
+        .add_option("--transport", options.transport,
+                    "How light moves between patches: the all-pairs matrix F, or hierarchical "
+                    "links between clusters (docs/hierarchical.md)")
+        ->check(CLI::IsMember({"matrix", "hierarchical"}))
+        ->capture_default_str();
+    command
+        .add_option("--link-tolerance", options.linkTolerance,
+                    "Hierarchical transport: the error a link may carry, relative to the "
+                    "scene's visible power (smaller: more links)")
+        ->check(finiteNumber(1e-12, 1))
+        ->capture_default_str();
     command.add_option("--quadrature", options.quadratureLevel, "Quadrature level L (4^L points)")
         ->check(CLI::Range(0, 6))
         ->capture_default_str();

@@ -9,6 +9,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "hierarchical/hierarchical_links.h"
 #include "radiosity/form_factors.h"
 #include "radiosity/solver.h"
 #include "scene/load_scene.h"
@@ -23,6 +24,8 @@ struct CommonOptions {
     std::string vulkanRays = "auto";  // --vulkan-rays: auto | query | software
     // The form-factor settings' names and defaults are the library's (radiosity/form_factors.h).
     std::string method = formFactorMethodName(FormFactorSettings{}.method);
+    std::string transport = "matrix";  // --transport: matrix | hierarchical
+    double linkTolerance = HierarchySettings{}.linkTolerance;  // --link-tolerance
     int quadratureLevel = FormFactorSettings{}.quadratureLevel;  // L: 4^L points per patch
     int raysPerPair = FormFactorSettings{}.raysPerPair;  // K shadow rays per pair; 0 = none
     int stochasticRays = FormFactorSettings{}.stochasticRays;  // N rays per patch (stochastic)

@@ -15,6 +15,7 @@
 #include "core/strings.h"
 #include "core/timer.h"
 #include "geometry/auto_patch_size.h"
+#include "hierarchical/hierarchical_transport.h"
 #include "pipeline/backend_registry.h"
 #include "pipeline/vertex_radiance.h"
 #include "radiosity/exposed_system.h"
@@ -328,16 +329,28 @@ MatrixEstimate Session::matrixEstimate() const {
     return estimateMatrixMemory(state_->patches);
 }
 
+const char* transportKindName(TransportKind kind) {
+    return kind == TransportKind::Hierarchical ? "hierarchical" : "matrix";
+}
+
 FormFactorKey Session::formFactorKey() const {
     State& s = *state_;
     if (s.formFactorKey) return *s.formFactorKey;
     if (s.resolvedBackend.empty()) s.resolvedBackend = resolveBackendName(s.settings.backend);
-    s.formFactorKey =
-        daisy::formFactorKey(s.patches, s.settings.formFactors, backendFamily(s.resolvedBackend));
+    std::string family = backendFamily(s.resolvedBackend);
+    if (s.settings.transport == TransportKind::Hierarchical) {
+        // The links also depend on E and M (the oracle's weights): the solution cache's key
+        // adds them; the links themselves are not cached.
+        const HierarchySettings& h = s.settings.hierarchy;
+        family =
+            concat(family, " hierarchical ", h.linkTolerance, " ", h.farRays, " ", h.maxAperture);
+    }
+    s.formFactorKey = daisy::formFactorKey(s.patches, s.settings.formFactors, family);
     return *s.formFactorKey;
 }
 
 bool Session::formFactorsCached() const {
+    if (state_->settings.transport == TransportKind::Hierarchical) return false;
     finishCacheWrite();
     const auto& dir = state_->settings.cacheDirectory;
     return dir && FormFactorCache(*dir).contains(formFactorKey());
@@ -350,6 +363,9 @@ Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel,
     if (s.transport) {
         report.backendName = "memory";
         return report;
+    }
+    if (s.settings.transport == TransportKind::Hierarchical) {
+        return buildHierarchical(s.settings.backend, cancel);
     }
     Timer timer;
     std::optional<FormFactorCache> cache;
@@ -408,6 +424,9 @@ Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& 
                                                              const CancelToken* cancel,
                                                              const ProgressObserver& onProgress) {
     State& s = *state_;
+    if (s.settings.transport == TransportKind::Hierarchical) {
+        return buildHierarchical(backendName, cancel);
+    }
     Timer timer;
     const MatrixEstimate estimate = matrixEstimate();
     s.stageLine(concat("view factors: ", formatCount(s.patches.patchCount()), " patches, ~",
@@ -439,6 +458,53 @@ Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& 
                        report.backendName));
     setFormFactors(std::move(result->matrix));
     report.seconds = timer.seconds();
+    s.timings.viewFactorSeconds = report.seconds;
+    return report;
+}
+
+Expected<FormFactorReport> Session::buildHierarchical(const std::string& backendName,
+                                                      const CancelToken* cancel) {
+    State& s = *state_;
+    const std::string backend = resolveBackendName(backendName);
+    if (backend != "cpu") {
+        return Error{concat("--transport hierarchical: the ", backend,
+                            " backend cannot evaluate links yet; use --backend cpu")};
+    }
+    Timer timer;
+    const HierarchyEstimate estimate = estimateHierarchy(s.patches, s.system.wavelengthCount);
+    s.stageLine(concat("view factors: hierarchical over ", formatCount(s.patches.patchCount()),
+                       " patches, ~", formatBytes(double(estimate.bytes)), " (estimate)"));
+    if (estimate.bytes > s.settings.maxMemoryBytes) {
+        return Error{concat(s.scenePath(), ": the hierarchical transport needs about ",
+                            formatBytes(double(estimate.bytes)), " for ",
+                            formatCount(s.patches.patchCount()),
+                            " patches, more than --max-memory ",
+                            formatBytes(double(s.settings.maxMemoryBytes)), "; ", memoryAdvice())};
+    }
+    FormFactorSettings settings = formFactorSettingsOf(s.settings, cancel, {});
+    auto built = buildHierarchicalTransport(s.patches, s.system, s.settings.hierarchy, settings);
+    if (!built) return withContext(built.error(), s.scenePath());
+    ++s.builds;
+    const LinkStats& stats = (*built)->links().stats;
+    FormFactorReport report;
+    report.backendName = "cpu";
+    report.stats.patches = s.patches.patchCount();
+    report.stats.raysCast = stats.raysCast;
+    report.stats.nonzeros = stats.nearEntries;
+    report.seconds = timer.seconds();
+    report.stats.totalSeconds = report.seconds;
+    s.stageLine(concat("view factors: hierarchical: ", formatCount(stats.farLinks),
+                       " far links and ", formatCount(stats.nearEntries), " near factors (",
+                       formatBytes(double((*built)->stats().bytes)), ") in ",
+                       formatDuration(report.seconds), " on cpu"));
+    s.stageDetail(concat("hierarchy: ", formatCount(stats.candidates), " node pairs examined, ",
+                         formatCount(stats.facingAway), " facing away, ", formatCount(stats.hidden),
+                         " hidden, ", formatCount(stats.partlyVisibleRefined),
+                         " refined for partial visibility; ", formatCount(stats.raysCast),
+                         " far-link rays; refinement ", formatDuration(stats.refineSeconds),
+                         ", near factors ", formatDuration(stats.nearSeconds)));
+    s.transport = *built;
+    s.exposedReady = false;
     s.timings.viewFactorSeconds = report.seconds;
     return report;
 }

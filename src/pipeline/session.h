@@ -22,6 +22,7 @@
 #include "core/cancel.h"
 #include "core/expected.h"
 #include "geometry/patch_mesh.h"
+#include "hierarchical/hierarchical_links.h"
 #include "pipeline/channel_layout.h"
 #include "pipeline/formfactor_cache.h"
 #include "pipeline/solution_cache.h"
@@ -45,6 +46,12 @@ namespace daisy {
 // (geometry/auto_patch_size.h), so `info` and `solve` describe the patches `render` solves.
 enum class PatchSizeDefault { InputTriangles, Automatic };
 
+// How light moves between patches (--transport): the all-pairs matrix F
+// (radiosity/matrix_transport.h), or links between nodes of a cluster hierarchy
+// (hierarchical/hierarchical_transport.h).
+enum class TransportKind { Matrix, Hierarchical };
+const char* transportKindName(TransportKind kind);
+
 struct SessionSettings {
     std::string scenePath;  // loaded by open(); named in messages
     SceneLoadOptions load;
@@ -56,6 +63,8 @@ struct SessionSettings {
     // lavapipe). `backend` must still name it (the cache key's family comes from the name).
     std::shared_ptr<Backend> backendInstance;
     FormFactorSettings formFactors;  // method, L, K, N, seed, threads; maxMemoryBytes below
+    TransportKind transport = TransportKind::Matrix;
+    HierarchySettings hierarchy;  // the hierarchical transport's oracle
     std::optional<double> subdivideMaxEdge;  // scene units; 0 = the input triangles
     PatchSizeDefault defaultPatchSize = PatchSizeDefault::InputTriangles;
     WavelengthSpec wavelengths;  // `auto` adds UV samples only where the scene needs them
@@ -177,6 +186,9 @@ public:
     std::string memoryAdvice() const;
     // Uses `matrix` as F (a matrix computed elsewhere: tests, the stress suite's own drivers).
     void setFormFactors(SparseMatrix matrix);
+    // The hierarchical transport on `backend` (only cpu evaluates links so far); no disk cache.
+    Expected<FormFactorReport> buildHierarchical(const std::string& backend,
+                                                 const CancelToken* cancel);
 
     // ---- edits (F untouched) ----
     // Replaces material `index` and rebuilds E and M; the solution is kept as the warm start.

@@ -118,7 +118,8 @@ public:
           accumulateFloat_(accumulateFor<float>(system.wavelengthCount)) {
         active_.resize(system.patchCount);
         for (uint32_t i = 0; i < system.patchCount; ++i)
-            active_[i] = !system.operators[system.patchOperator[i]].isZero && f.rowLength(i) > 0;
+            active_[i] = !system.operators[system.patchOperator[i]].isZero &&
+                (f.rowLength(i) > 0 || settings.farGather);
     }
 
     Expected<SolverResult> run();
@@ -138,6 +139,26 @@ private:
         } else {
             accumulateDouble_(f_.columns.data(), f_.values.data(), begin, end, b_.data(), m_, acc);
         }
+    }
+    // The start of row i's gather: its far part (settings_.farGather) or 0.
+    void startRow(uint32_t i, double* g) const {
+        if (far_.empty()) {
+            std::fill(g, g + m_, 0.0);
+        } else {
+            std::copy_n(rowOf(far_, i), m_, g);
+        }
+    }
+    // far_ = the far part of T B for the current B (no work without settings_.farGather).
+    void refreshFar() {
+        if (settings_.farGather) settings_.farGather(b_, far_);
+    }
+    // G = T B for the current B: F B plus the far part.
+    void gatherFull() {
+        gatherAll(f_, b_, m_, g_, 0);
+        if (!settings_.farGather) return;
+        refreshFar();
+        for (std::size_t e = 0; e < g_.size(); ++e)
+            g_[e] += far_[e];
     }
     // Values under float's smallest normal become 0, as the float kernels would treat them
     // (denormals-are-zero), without the slow conversion to a denormal.
@@ -171,6 +192,7 @@ private:
     float* mirror_ = nullptr;
     std::vector<uint8_t> active_;  // rows that gather: non-zero operator and a non-empty F row
     std::vector<double> b_, next_, g_, rowChange_;
+    std::vector<double> far_;  // the far part of T B (settings_.farGather), n x m; else empty
     // Gauss-Seidel: per row of the current block, its in-block entry range; one row's new B.
     std::vector<std::array<uint64_t, 2>> inBlock_;
     std::vector<double> scratch_;
@@ -183,12 +205,13 @@ private:
 
 // B^k = E + M F B^(k-1) for every row at once. Returns ||B^k - B^(k-1)||.
 double Solver::jacobiIteration() {
+    refreshFar();
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, system_.patchCount, kRowGrain),
                       [&](const tbb::blocked_range<uint32_t>& range) {
                           for (uint32_t i = range.begin(); i != range.end(); ++i) {
                               if (!active_[i]) continue;
                               double* g = rowOf(g_, i);
-                              std::fill(g, g + m_, 0.0);
+                              startRow(i, g);
                               gatherRow(f_.rowOffsets[i], f_.rowOffsets[i + 1], g);
                               double* out = rowOf(next_, i);
                               applyOperator(op(i), g, out, system_.emissionRow(i));
@@ -206,6 +229,7 @@ double Solver::jacobiIteration() {
 // rows, in order, add their in-block columns and update B in place.
 double Solver::gaussSeidelIteration() {
     const uint32_t n = system_.patchCount;
+    refreshFar();
     for (uint32_t blockBegin = 0; blockBegin < n; blockBegin += kBlockRows) {
         if (cancelRequested()) break;
         const uint32_t blockEnd = std::min(n, blockBegin + kBlockRows);
@@ -215,7 +239,7 @@ double Solver::gaussSeidelIteration() {
                 for (uint32_t i = range.begin(); i != range.end(); ++i) {
                     if (!active_[i]) continue;
                     double* g = rowOf(g_, i);
-                    std::fill(g, g + m_, 0.0);
+                    startRow(i, g);
                     const uint64_t rowBegin = f_.rowOffsets[i], rowEnd = f_.rowOffsets[i + 1];
                     const uint32_t* columns = f_.columns.data();
                     const uint64_t inBegin =
@@ -312,6 +336,7 @@ Expected<SolverResult> Solver::run() {
         refreshMirror(0, n);
     }
     g_.assign(std::size_t(n) * m_, 0.0);
+    if (settings_.farGather) far_.assign(std::size_t(n) * m_, 0.0);
     rowChange_.assign(n, 0.0);
 
     std::vector<double> ownSums;
@@ -365,7 +390,7 @@ Expected<SolverResult> Solver::run() {
     }
 
     auto finish = [&](bool gathered) {
-        if (!gathered) gatherAll(f_, b_, m_, g_, 0);
+        if (!gathered) gatherFull();
         result.residual = relativeResidual(system_, b_, g_);
         result.converged = result.residual <= settings_.tolerance;
     };
@@ -549,6 +574,11 @@ Expected<SolverResult> solveRadiosity(const SparseMatrix& formFactors,
             concat("the warm start, row sums or transpose given to the solver do not "
                    "match its ",
                    n, " patches x ", m, " wavelengths")};
+    }
+    if (settings.farGather && settings.kind == SolverKind::Southwell) {
+        return Error{
+            "the southwell solver shoots along the matrix's columns; the hierarchical "
+            "transport solves with gauss-seidel or jacobi"};
     }
     tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
     try {

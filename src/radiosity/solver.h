@@ -70,6 +70,12 @@ struct SolverSettings {
     // does): F's row sums (size n) and its transpose (Southwell). Empty / null = computed here.
     std::span<const double> rowSums;
     const SparseMatrix* transposed = nullptr;
+    // The part of G = T B that F does not hold (the hierarchical transport's far links,
+    // radiosity/hierarchical_transport.h): farGather(B, G) writes it for the iterate B (n x m).
+    // It is computed at the start of every iteration and added to each row's gather, so
+    // Gauss-Seidel takes it from the last sweep's B; the residual uses the full T B. Null: F is
+    // all of T. Southwell, which shoots along F's columns, refuses it.
+    std::function<void(std::span<const double> radiosity, std::span<double> gathered)> farGather;
 };
 
 struct SolverResult {

@@ -1,0 +1,58 @@
+#pragma once
+// The cluster hierarchy of the hierarchical transport (hierarchical/hierarchical_transport.h):
+// a binary tree whose leaves are the patches (the finest elements) and whose inner nodes group
+// them, so that one link between two nodes can stand for every pair of patches below them
+// (clustering: Smits, Arvo and Greenberg 1994, "A clustering algorithm for radiosity in complex
+// environments", SIGGRAPH; Sillion 1995, "A unified hierarchical algorithm for global
+// illumination with scattering volumes and object clusters", IEEE TVCG 1(3)).
+//
+// Split rule: top down, a node's patches are cut at the median of the widest of six keys: the
+// centroid's x, y, z and the unit normal's x, y, z scaled by half the node's bounding-box
+// diagonal. Normal spread thus counts like spatial extent: a wall's front and back patches (a
+// double-sided surface) or the two sides of a thin curtain end up in different children once
+// the nodes are small, so every node's patches soon face one way (a narrow normal cone), which
+// is what lets a link treat the node as one oriented emitter and receiver (the far-field model
+// in hierarchical_links.h). The children of one input polygon stay together while they are
+// coplanar: a wall subdivided into patches forms a quadtree-like subtree of planar nodes.
+//
+// Nodes are stored in pre-order: a node's children have larger indices than the node, so a
+// pass from the last node to the first visits children before parents (pull) and the reverse
+// pass parents before children (push). The leaves of node k are order[first .. first + count).
+#include <cstdint>
+#include <vector>
+
+#include "geometry/patch_mesh.h"
+#include "geometry/vec3.h"
+
+namespace daisy {
+
+inline constexpr uint32_t kNoNode = 0xffffffffu;
+
+struct ClusterNode {
+    uint32_t first = 0;  // the node's patches are order[first .. first + count)
+    uint32_t count = 0;  // 1: a leaf (a patch)
+    uint32_t children[2] = {kNoNode, kNoNode};
+    Vec3d center;  // of the bounding sphere (the bounding box's centre), scene units
+    double radius = 0;  // of the bounding sphere: half the box's diagonal
+    Vec3d centroid;  // area-weighted centroid of the patches
+    double area = 0;  // total patch area, scene units squared
+    Vec3d coneAxis;  // unit axis of the cone holding every patch normal
+    // cos of the cone's half-angle; -1 when the normals do not fit in a half-space cone
+    double coneCos = 1;
+
+    bool isLeaf() const { return count == 1; }
+};
+
+struct ClusterTree {
+    std::vector<ClusterNode> nodes;  // pre-order; nodes[0] is the root
+    std::vector<uint32_t> order;  // patch indices, each node's a contiguous range
+    std::vector<uint32_t> leafOf;  // per patch: its leaf node
+
+    std::size_t bytes() const;
+};
+
+// Builds the tree over every patch of `mesh` (2 n - 1 nodes for n patches; empty for none),
+// in parallel; deterministic (the same tree for any thread count).
+ClusterTree buildClusterTree(const PatchMesh& mesh);
+
+}  // namespace daisy

@@ -1,0 +1,360 @@
+#include "hierarchical/hierarchical_links.h"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include "core/cancel.h"
+#include "core/timer.h"
+#include "shared/rng.h"
+
+namespace daisy {
+namespace {
+
+// Candidate pairs the breadth-first expansion gathers before the depth-first refinement runs
+// them in parallel (each one's subtree of decisions is independent of the others').
+constexpr std::size_t kParallelFrontier = 4096;
+// Shadow segments are trimmed by this share of their length at each end, so the patches they
+// start and end on (and their neighbours at a shared edge) do not block them.
+constexpr float kSegmentTrim = 1e-4f;
+// Angles are compared with this margin (radians) so rounding never lets a cosine reach 0.
+constexpr double kFacingMargin = 1e-6;
+
+struct FarRecord {
+    uint32_t receiver, source;
+    float coupling;
+    float direction[3];  // receiver -> source
+};
+
+struct Pair {
+    uint32_t r, s;
+};
+
+// What each worker thread collects.
+struct Local {
+    std::vector<FarRecord> far;
+    std::vector<shared::PairIndex> near;
+    LinkStats stats;
+    SegmentArrays segments;
+    std::vector<uint8_t> blocked;
+};
+
+// The angle (radians) of the cone of node `node` plus `spread`, against direction `u`: whether
+// every normal in the cone faces every direction within `spread` of u (+1), faces none (-1), or
+// some (0).
+int facing(const ClusterNode& node, const Vec3d& u, double spread) {
+    if (node.coneCos <= -1) return 0;
+    const double half = std::acos(std::clamp(node.coneCos, -1.0, 1.0)) + spread;
+    const double axis = std::acos(std::clamp(dot(node.coneAxis, u), -1.0, 1.0));
+    if (axis + half < M_PI / 2 - kFacingMargin) return 1;
+    if (axis - half > M_PI / 2 + kFacingMargin) return -1;
+    return 0;
+}
+
+class Refiner {
+public:
+    Refiner(const PatchMesh& mesh, const ClusterTree& tree, const LinkImportance& importance,
+            const HierarchySettings& hierarchy, const FormFactorSettings& settings,
+            const RayCaster& rays)
+        : mesh_(mesh),
+          tree_(tree),
+          hierarchy_(hierarchy),
+          rays_(rays),
+          seed_(static_cast<uint32_t>(settings.seed ^ (settings.seed >> 32))) {
+        const std::size_t nodes = tree.nodes.size();
+        source_.assign(nodes, 0.0);
+        yield_.assign(nodes, 0.0);
+        for (std::size_t k = nodes; k-- > 0;) {
+            const ClusterNode& node = tree.nodes[k];
+            if (node.isLeaf()) {
+                const uint32_t patch = tree.order[node.first];
+                source_[k] = importance.source[patch];
+                yield_[k] = importance.yield[patch];
+            } else {
+                source_[k] = std::max(source_[node.children[0]], source_[node.children[1]]);
+                yield_[k] = std::max(yield_[node.children[0]], yield_[node.children[1]]);
+            }
+        }
+        epsilon_ = hierarchy.linkTolerance * importance.totalPower;
+        prefixArea_.resize(tree.order.size() + 1, 0.0);
+        for (std::size_t k = 0; k < tree.order.size(); ++k)
+            prefixArea_[k + 1] = prefixArea_[k] + mesh.areas[tree.order[k]];
+    }
+
+    // Decides one pair: a link (far or near), nothing, or up to three child pairs in `next`.
+    void decide(Pair pair, Local& local, std::vector<Pair>& next) const {
+        ++local.stats.candidates;
+        const ClusterNode& r = tree_.nodes[pair.r];
+        const ClusterNode& s = tree_.nodes[pair.s];
+        if (pair.r == pair.s) {
+            if (r.isLeaf()) return;  // a flat patch does not see itself
+            const uint32_t a = r.children[0], b = r.children[1];
+            next.push_back({a, a});
+            next.push_back({b, b});
+            next.push_back({a, b});
+            return;
+        }
+        const Vec3d between = s.center - r.center;
+        const double d = length(between);
+        const double rho = r.radius + s.radius;
+        const bool apart = d > rho;
+        if (apart) {
+            const Vec3d u = between / d;
+            const double spread = std::asin(std::min(1.0, rho / d));
+            const int rFaces = facing(r, u, spread), sFaces = facing(s, -u, spread);
+            if (rFaces < 0 || sFaces < 0) {
+                ++local.stats.facingAway;
+                return;
+            }
+            if (rFaces > 0 && sFaces > 0 && rho <= hierarchy_.maxAperture * d) {
+                const double gap = d - rho;
+                const double coupling =
+                    std::min({r.area, s.area, r.area * s.area / (M_PI * gap * gap)});
+                const double phi = coupling *
+                    (source_[pair.s] * yield_[pair.r] + source_[pair.r] * yield_[pair.s]);
+                if (phi * rho / d <= epsilon_ && far(pair, phi, local)) return;
+            }
+        }
+        // Two patches close together: the kernel decides (facing away gives 0 factors).
+        if (r.isLeaf() && s.isLeaf()) {
+            local.near.push_back({std::min(tree_.order[r.first], tree_.order[s.first]),
+                                  std::max(tree_.order[r.first], tree_.order[s.first])});
+            return;
+        }
+        const bool splitR = !r.isLeaf() && (s.isLeaf() || r.radius >= s.radius);
+        const ClusterNode& split = splitR ? r : s;
+        for (uint32_t child : split.children)
+            next.push_back(splitR ? Pair{child, pair.s} : Pair{pair.r, child});
+    }
+
+private:
+    // The far link of a pair that passed the geometric tests: its visibility, then the link,
+    // nothing (hidden), or false (partly visible and worth refining).
+    bool far(Pair pair, double phi, Local& local) const {
+        const ClusterNode& r = tree_.nodes[pair.r];
+        const ClusterNode& s = tree_.nodes[pair.s];
+        const int count = std::max(1, hierarchy_.farRays);
+        local.segments.resize(count);
+        local.blocked.assign(count, 0);
+        const uint32_t seed = shared::pairSeed(pair.r, pair.s, seed_);
+        for (int k = 0; k < count; ++k) {
+            const Vec3d x = samplePoint(r, k, count, shared::streamSeed(seed, 2 * k));
+            const Vec3d y =
+                samplePoint(s, (k * 5 + 3) % count, count, shared::streamSeed(seed, 2 * k + 1));
+            const Vec3d a = x + (y - x) * double(kSegmentTrim);
+            const Vec3d b = y + (x - y) * double(kSegmentTrim);
+            local.segments.set(k, float(a.x), float(a.y), float(a.z), float(b.x), float(b.y),
+                               float(b.z));
+        }
+        rays_.occluded(local.segments, local.blocked);
+        local.stats.raysCast += count;
+        int open = 0;
+        for (uint8_t b : local.blocked)
+            open += b == 0;
+        if (open > 0 && open < count && 0.5 * phi > epsilon_) {
+            ++local.stats.partlyVisibleRefined;
+            return false;
+        }
+        if (open == 0) {
+            ++local.stats.hidden;
+            return true;
+        }
+        const Vec3d between = s.centroid - r.centroid;
+        const double distance = length(between);
+        const Vec3d u = between / distance;
+        FarRecord record{pair.r,
+                         pair.s,
+                         float(double(open) / count / (M_PI * distance * distance)),
+                         {float(u.x), float(u.y), float(u.z)}};
+        local.far.push_back(record);
+        return true;
+    }
+
+    // Point k of `count` on node `node`, area-uniform: the patch by stratified area, then a
+    // uniform point on it.
+    Vec3d samplePoint(const ClusterNode& node, int k, int count, uint32_t seed) const {
+        const double lo = prefixArea_[node.first], hi = prefixArea_[node.first + node.count];
+        const double t = (k + shared::hashToUnitFloat(0, seed)) / count;
+        const double target = lo + (hi - lo) * t;
+        auto it = std::upper_bound(prefixArea_.begin() + node.first + 1,
+                                   prefixArea_.begin() + node.first + node.count, target);
+        const auto index = static_cast<std::size_t>(it - prefixArea_.begin()) - 1;
+        const uint32_t patch = tree_.order[index];
+        const auto& corners = mesh_.patches[patch];
+        const double su = std::sqrt(double(shared::hashToUnitFloat(1, seed)));
+        const double v = shared::hashToUnitFloat(2, seed);
+        return mesh_.positions[corners[0]] * (1 - su) +
+            mesh_.positions[corners[1]] * (su * (1 - v)) + mesh_.positions[corners[2]] * (su * v);
+    }
+
+    const PatchMesh& mesh_;
+    const ClusterTree& tree_;
+    const HierarchySettings& hierarchy_;
+    const RayCaster& rays_;
+    uint32_t seed_;
+    std::vector<double> source_, yield_;  // per node: largest source and yield
+    std::vector<double> prefixArea_;  // over tree.order
+    double epsilon_ = 0;
+};
+
+void addStats(LinkStats& into, const LinkStats& from) {
+    into.farLinks += from.farLinks;
+    into.candidates += from.candidates;
+    into.facingAway += from.facingAway;
+    into.hidden += from.hidden;
+    into.partlyVisibleRefined += from.partlyVisibleRefined;
+    into.raysCast += from.raysCast;
+}
+
+// Half-links grouped by receiver, each far record giving one to each side.
+void groupFarLinks(const std::vector<FarRecord>& records, std::size_t nodeCount,
+                   HierarchicalLinks& links) {
+    links.farOffsets.assign(nodeCount + 1, 0);
+    for (const FarRecord& record : records) {
+        ++links.farOffsets[record.receiver + 1];
+        ++links.farOffsets[record.source + 1];
+    }
+    for (std::size_t k = 0; k < nodeCount; ++k)
+        links.farOffsets[k + 1] += links.farOffsets[k];
+    links.far.resize(links.farOffsets.back());
+    std::vector<uint64_t> cursor(links.farOffsets.begin(), links.farOffsets.end() - 1);
+    for (const FarRecord& record : records) {
+        const float* u = record.direction;
+        links.far[cursor[record.receiver]++] = {record.source, record.coupling, {u[0], u[1], u[2]}};
+        links.far[cursor[record.source]++] = {
+            record.receiver, record.coupling, {-u[0], -u[1], -u[2]}};
+    }
+    for (std::size_t k = 0; k < nodeCount; ++k) {
+        std::sort(links.far.begin() + links.farOffsets[k],
+                  links.far.begin() + links.farOffsets[k + 1],
+                  [](const FarLink& a, const FarLink& b) { return a.source < b.source; });
+    }
+}
+
+// The near links' factors, both directions, as F's rows (zeros dropped).
+Expected<SparseMatrix> evaluateNear(const std::vector<shared::PairIndex>& pairs, uint32_t n,
+                                    int rays, PairEvaluator& evaluator, const CancelToken* cancel) {
+    std::vector<shared::PairFactors> factors(pairs.size());
+    const std::size_t batch = std::max<std::size_t>(1, evaluator.batchPairs());
+    for (std::size_t begin = 0; begin < pairs.size(); begin += batch) {
+        if (isCancelled(cancel)) return Error{kInterruptedMessage};
+        const std::size_t count = std::min(batch, pairs.size() - begin);
+        auto done = evaluator.evaluate({pairs.data() + begin, count}, rays,
+                                       {factors.data() + begin, count});
+        if (!done) return done.error();
+    }
+    SparseMatrix matrix = SparseMatrix::zeros(n);
+    std::vector<uint64_t>& offsets = matrix.rowOffsets;
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        if (factors[k].fij != 0) ++offsets[pairs[k].i + 1];
+        if (factors[k].fji != 0) ++offsets[pairs[k].j + 1];
+    }
+    for (uint32_t i = 0; i < n; ++i)
+        offsets[i + 1] += offsets[i];
+    matrix.columns.resize(offsets.back());
+    matrix.values.resize(offsets.back());
+    std::vector<uint64_t> cursor(offsets.begin(), offsets.end() - 1);
+    // Both directions of the pairs interleave in a row: each row is sorted by column after.
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+        const auto [i, j] = pairs[k];
+        if (factors[k].fij != 0) {
+            matrix.columns[cursor[i]] = j, matrix.values[cursor[i]++] = factors[k].fij;
+        }
+        if (factors[k].fji != 0) {
+            matrix.columns[cursor[j]] = i, matrix.values[cursor[j]++] = factors[k].fji;
+        }
+    }
+    tbb::parallel_for(uint32_t(0), n, [&](uint32_t i) {
+        const uint64_t begin = offsets[i], end = offsets[i + 1];
+        std::vector<std::pair<uint32_t, float>> row(end - begin);
+        for (uint64_t e = begin; e < end; ++e)
+            row[e - begin] = {matrix.columns[e], matrix.values[e]};
+        std::sort(row.begin(), row.end());
+        for (uint64_t e = begin; e < end; ++e)
+            matrix.columns[e] = row[e - begin].first, matrix.values[e] = row[e - begin].second;
+    });
+    return matrix;
+}
+
+}  // namespace
+
+Expected<HierarchicalLinks> buildHierarchicalLinks(const PatchMesh& mesh, const ClusterTree& tree,
+                                                   const LinkImportance& importance,
+                                                   const HierarchySettings& hierarchy,
+                                                   const FormFactorSettings& settings,
+                                                   PairEvaluator& evaluator,
+                                                   const RayCaster& rays) {
+    HierarchicalLinks links;
+    const auto n = static_cast<uint32_t>(mesh.patchCount());
+    if (n == 0) {
+        links.near = SparseMatrix::zeros(0);
+        links.farOffsets.assign(1, 0);
+        return links;
+    }
+    Timer timer;
+    const Refiner refiner(mesh, tree, importance, hierarchy, settings, rays);
+    tbb::enumerable_thread_specific<Local> locals;
+
+    // Breadth first until there is enough parallel work, then each pair's subtree depth first.
+    std::vector<Pair> frontier{{0, 0}}, next;
+    Local& first = locals.local();
+    while (!frontier.empty() && frontier.size() < kParallelFrontier) {
+        next.clear();
+        for (const Pair& pair : frontier)
+            refiner.decide(pair, first, next);
+        frontier.swap(next);
+    }
+    std::atomic<bool> cancelled{false};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, frontier.size(), 16),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                          Local& local = locals.local();
+                          std::vector<Pair> stack;
+                          for (std::size_t k = range.begin(); k != range.end(); ++k) {
+                              if (isCancelled(settings.cancel)) {
+                                  cancelled = true;
+                                  return;
+                              }
+                              stack.assign(1, frontier[k]);
+                              while (!stack.empty()) {
+                                  const Pair pair = stack.back();
+                                  stack.pop_back();
+                                  refiner.decide(pair, local, stack);
+                              }
+                          }
+                      });
+    if (cancelled) return Error{kInterruptedMessage};
+
+    std::vector<FarRecord> far;
+    std::vector<shared::PairIndex> near;
+    for (Local& local : locals) {
+        addStats(links.stats, local.stats);
+        far.insert(far.end(), local.far.begin(), local.far.end());
+        near.insert(near.end(), local.near.begin(), local.near.end());
+    }
+    tbb::parallel_sort(far.begin(), far.end(), [](const FarRecord& a, const FarRecord& b) {
+        return a.receiver < b.receiver || (a.receiver == b.receiver && a.source < b.source);
+    });
+    tbb::parallel_sort(near.begin(), near.end(),
+                       [](const shared::PairIndex& a, const shared::PairIndex& b) {
+                           return a.i < b.i || (a.i == b.i && a.j < b.j);
+                       });
+    links.stats.farLinks = far.size();
+    groupFarLinks(far, tree.nodes.size(), links);
+    links.stats.refineSeconds = timer.seconds();
+
+    Timer nearTimer;
+    links.stats.nearPairsEvaluated = near.size();
+    auto matrix = evaluateNear(near, n, settings.raysPerPair, evaluator, settings.cancel);
+    if (!matrix) return matrix.error();
+    links.near = std::move(*matrix);
+    links.stats.nearEntries = links.near.nonzeroCount();
+    links.stats.nearSeconds = nearTimer.seconds();
+    return links;
+}
+
+}  // namespace daisy

@@ -1,0 +1,93 @@
+#pragma once
+// Links of the hierarchical transport (Hanrahan, Salzman and Aupperle 1991, "A rapid
+// hierarchical radiosity algorithm", SIGGRAPH), made by refining node pairs of the cluster tree
+// (hierarchical/cluster_tree.h) from the root's pair with itself.
+//
+// Two kinds of link:
+// - near: a pair of patches, with the factors the matrix path would give them (the backend's
+//   PairEvaluator: the view-factor kernel and its stratified shadow segments), stored as a
+//   sparse matrix of F_ij over the patches;
+// - far: a pair of nodes (R, S), each of whose patches faces every point of the other, with
+//   the far-field coupling K = V / (pi r^2): r the distance between their area-weighted
+//   centroids, u the unit direction from R to S, V the share of shadow segments between
+//   area-sampled points of R and S that get through. The irradiance a patch l of R receives
+//   from S is then
+//       G_l = (n_l . u) K (-u . P_S),   P_S = sum_{j in S} A_j n_j B_j,
+//   exact for small nodes far apart (the point-to-point form factor with each patch's own
+//   cosines: Cohen and Wallace 1993, "Radiosity and Realistic Image Synthesis", eq. 4.17), and
+//   linear in B on both sides, so the link needs no cluster emission model beyond the patches'
+//   own normals: the "vector" pull P and the push of J = sum K (-u . P_S) u (hierarchical_
+//   transport.h). One link serves both directions (S receives K (u . P_R) along -u): reciprocity
+//   A_R F_RS = A_S F_SR holds per link by construction.
+//
+// The oracle, per candidate pair (R, S) with bounding spheres (c, rho) and normal cones:
+// - a pair one of whose sides faces wholly away from the other exchanges nothing: no link;
+// - power bound Phi = C (s_S y_R + s_R y_S): C = min(A_R, A_S, A_R A_S / (pi (d - rho)^2)),
+//   d the distance of the sphere centres, rho the sum of the radii, s and y the nodes' largest
+//   source and yield (hierarchical/link_oracle.h);
+// - far link when the spheres are apart (d > rho), both sides wholly face each other, and the
+//   far-field error bound Phi rho / d is at most epsilon = tolerance x the scene's visible
+//   power; then V from `farRays` segments, and a partly visible pair (0 < V < 1) whose Phi / 2
+//   exceeds epsilon is refined (partial visibility is a reason to refine); V = 0: no link;
+// - otherwise the side with the larger sphere is split (a leaf never is); two patches become a
+//   near link.
+#include <cstdint>
+#include <vector>
+
+#include "core/expected.h"
+#include "geometry/patch_mesh.h"
+#include "hierarchical/cluster_tree.h"
+#include "hierarchical/link_oracle.h"
+#include "radiosity/form_factors.h"
+#include "radiosity/pair_evaluator.h"
+#include "radiosity/sparse_matrix.h"
+#include "raycast/ray_caster.h"
+
+namespace daisy {
+
+struct HierarchySettings {
+    // epsilon relative to the scene's visible power (link_oracle.h); smaller: more links.
+    double linkTolerance = 2e-6;
+    int farRays = 8;  // shadow segments per far link
+    // Largest rho / d of a far link (sphere radii over centre distance): bounds each patch's
+    // relative error of the far-field coupling whatever the link's power.
+    double maxAperture = 0.25;
+};
+
+// One half of a far link, stored under its receiving node.
+struct FarLink {
+    uint32_t source = 0;  // node index
+    float coupling = 0;  // K = V / (pi r^2), scene units^-2
+    float direction[3] = {0, 0, 0};  // unit, receiver centroid -> source centroid
+};
+
+struct LinkStats {
+    uint64_t nearEntries = 0;  // stored F_ij of the near links (both directions)
+    uint64_t farLinks = 0;  // node pairs (unordered)
+    uint64_t candidates = 0;  // node pairs the oracle examined
+    uint64_t facingAway = 0;  // pairs dropped: one side faces wholly away
+    uint64_t hidden = 0;  // far pairs dropped: no segment got through
+    uint64_t partlyVisibleRefined = 0;  // far pairs refined for partial visibility
+    uint64_t raysCast = 0;  // far links' segments (the near links' are the evaluator's)
+    uint64_t nearPairsEvaluated = 0;  // patch pairs handed to the evaluator
+    double refineSeconds = 0;
+    double nearSeconds = 0;
+};
+
+struct HierarchicalLinks {
+    SparseMatrix near;  // F_ij of the near links, patch rows
+    std::vector<uint64_t> farOffsets;  // per node: its received half-links' range in `far`
+    std::vector<FarLink> far;  // grouped by receiving node, sources ascending
+    LinkStats stats;
+};
+
+// Refines the root's pair with itself; near pairs evaluated by `evaluator` with
+// settings.raysPerPair segments, far links' visibility by `rays`. Deterministic (any thread
+// count). Errors: the evaluator's, or the cancel token's kInterruptedMessage.
+Expected<HierarchicalLinks> buildHierarchicalLinks(const PatchMesh& mesh, const ClusterTree& tree,
+                                                   const LinkImportance& importance,
+                                                   const HierarchySettings& hierarchy,
+                                                   const FormFactorSettings& settings,
+                                                   PairEvaluator& evaluator, const RayCaster& rays);
+
+}  // namespace daisy

@@ -1,0 +1,226 @@
+#include "hierarchical/hierarchical_transport.h"
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/check.h"
+#include "core/strings.h"
+#include "radiosity/ray_pair_evaluator.h"
+#include "raycast/ray_caster.h"
+
+namespace daisy {
+
+HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree tree,
+                                             HierarchicalLinks links)
+    : tree_(std::move(tree)), links_(std::move(links)), normals_(mesh.normals), areas_(mesh.areas) {
+    const uint32_t n = links_.near.size;
+    farScale_.assign(n, 1.0);
+    // Row sums: G for B = 1 at one wavelength.
+    const std::vector<double> ones(n, 1.0);
+    rowSums_.assign(n, 0.0);
+    farGather(ones, 1, rowSums_);
+    const std::vector<double> nearSums = daisy::rowSums(links_.near);
+    for (uint32_t i = 0; i < n; ++i) {
+        const double sum = rowSums_[i] + nearSums[i];
+        if (sum > 1) {
+            const double scale = 1 / sum;
+            farScale_[i] = scale;
+            for (uint64_t e = links_.near.rowOffsets[i]; e < links_.near.rowOffsets[i + 1]; ++e)
+                links_.near.values[e] = static_cast<float>(links_.near.values[e] * scale);
+        }
+        rowSums_[i] = std::min(sum, 1.0);
+    }
+}
+
+TransportStats HierarchicalTransport::stats() const {
+    return {links_.near.nonzeroCount() + links_.far.size(),
+            links_.near.bytes() + links_.far.size() * sizeof(FarLink) +
+                links_.farOffsets.size() * sizeof(uint64_t) + tree_.bytes() +
+                (normals_.size() * sizeof(Vec3d)) + 2 * areas_.size() * sizeof(double)};
+}
+
+std::string HierarchicalTransport::checkStructure() const {
+    if (std::string near = validateStructure(links_.near); !near.empty()) return near;
+    const std::size_t nodes = tree_.nodes.size();
+    if (links_.farOffsets.size() != nodes + 1) return "far-link offsets do not match the tree";
+    for (std::size_t e = 0; e < links_.far.size(); ++e) {
+        const FarLink& link = links_.far[e];
+        if (link.source >= nodes || !std::isfinite(link.coupling) || link.coupling < 0) {
+            return concat("far link ", e, " has source ", link.source, " and coupling ",
+                          link.coupling);
+        }
+    }
+    return "";
+}
+
+void HierarchicalTransport::farGather(std::span<const double> radiosity,
+                                      std::size_t wavelengthCount,
+                                      std::span<double> gathered) const {
+    const std::size_t m = wavelengthCount, w = 3 * m, nodes = tree_.nodes.size();
+    DAISY_CHECK(radiosity.size() == normals_.size() * m && gathered.size() == radiosity.size());
+    if (nodes == 0) return;
+    std::vector<double> pull(nodes * w), push(nodes * w, 0.0);
+    // Pull: children before parents.
+    for (std::size_t k = nodes; k-- > 0;) {
+        const ClusterNode& node = tree_.nodes[k];
+        double* p = pull.data() + k * w;
+        if (node.isLeaf()) {
+            const uint32_t patch = tree_.order[node.first];
+            const Vec3d a = normals_[patch] * areas_[patch];
+            const double* b = radiosity.data() + patch * m;
+            for (std::size_t c = 0; c < m; ++c)
+                p[c] = a.x * b[c], p[m + c] = a.y * b[c], p[2 * m + c] = a.z * b[c];
+        } else {
+            const double* p0 = pull.data() + node.children[0] * w;
+            const double* p1 = pull.data() + node.children[1] * w;
+            for (std::size_t c = 0; c < w; ++c)
+                p[c] = p0[c] + p1[c];
+        }
+    }
+    // Links: each receiving node sums its half-links in source order.
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, nodes, 256),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t k = range.begin(); k != range.end(); ++k) {
+                double* j = push.data() + k * w;
+                for (uint64_t e = links_.farOffsets[k]; e < links_.farOffsets[k + 1]; ++e) {
+                    const FarLink& link = links_.far[e];
+                    const double* p = pull.data() + std::size_t(link.source) * w;
+                    const double ux = link.direction[0], uy = link.direction[1],
+                                 uz = link.direction[2], coupling = link.coupling;
+                    for (std::size_t c = 0; c < m; ++c) {
+                        const double s =
+                            -coupling * (ux * p[c] + uy * p[m + c] + uz * p[2 * m + c]);
+                        j[c] += s * ux, j[m + c] += s * uy, j[2 * m + c] += s * uz;
+                    }
+                }
+            }
+        });
+    // Push: parents before children; each patch takes its normal's share.
+    for (std::size_t k = 0; k < nodes; ++k) {
+        const ClusterNode& node = tree_.nodes[k];
+        const double* j = push.data() + k * w;
+        if (!node.isLeaf()) {
+            for (uint32_t child : node.children) {
+                double* c = push.data() + std::size_t(child) * w;
+                for (std::size_t e = 0; e < w; ++e)
+                    c[e] += j[e];
+            }
+            continue;
+        }
+        const uint32_t patch = tree_.order[node.first];
+        const Vec3d normal = normals_[patch] * farScale_[patch];
+        double* g = gathered.data() + patch * m;
+        for (std::size_t c = 0; c < m; ++c)
+            g[c] = normal.x * j[c] + normal.y * j[m + c] + normal.z * j[2 * m + c];
+    }
+}
+
+void HierarchicalTransport::gather(std::span<const double> radiosity, std::size_t wavelengthCount,
+                                   std::span<double> gathered, int threads) const {
+    if (threads > 0) {
+        tbb::task_arena arena(threads);
+        arena.execute([&] { gather(radiosity, wavelengthCount, gathered, 0); });
+        return;
+    }
+    std::vector<double> far(gathered.size());
+    farGather(radiosity, wavelengthCount, far);
+    gatherAll(links_.near, radiosity, wavelengthCount, gathered, 0);
+    for (std::size_t e = 0; e < gathered.size(); ++e)
+        gathered[e] += far[e];
+}
+
+void HierarchicalTransport::gatherFrom(std::span<const uint8_t> sources,
+                                       std::span<const uint8_t> receivers,
+                                       std::span<const double> radiosity,
+                                       std::size_t wavelengthCount,
+                                       std::span<double> gathered) const {
+    const std::size_t n = patchCount(), m = wavelengthCount;
+    DAISY_CHECK(sources.size() == n && receivers.size() == n && radiosity.size() == n * m &&
+                gathered.size() == n * m);
+    std::vector<double> masked(n * m, 0.0), all(n * m);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (sources[i]) std::copy_n(radiosity.data() + i * m, m, masked.data() + i * m);
+    }
+    gather(masked, m, all);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (receivers[i]) std::copy_n(all.data() + i * m, m, gathered.data() + i * m);
+    }
+}
+
+void HierarchicalTransport::row(uint32_t patch, std::vector<TransportEntry>& out) const {
+    const auto columns = links_.near.rowColumns(patch);
+    const auto values = links_.near.rowValues(patch);
+    out.resize(columns.size());
+    for (std::size_t e = 0; e < columns.size(); ++e)
+        out[e] = {columns[e], values[e]};
+}
+
+Expected<SolverResult> HierarchicalTransport::solve(const RadiositySystem& system,
+                                                    SolverSettings settings) const {
+    if (settings.rowSums.empty()) settings.rowSums = rowSums_;
+    settings.farGather = [this, m = system.wavelengthCount](std::span<const double> radiosity,
+                                                            std::span<double> gathered) {
+        farGather(radiosity, m, gathered);
+    };
+    return solveRadiosity(links_.near, system, settings);
+}
+
+Expected<void> HierarchicalTransport::writeMatrixMarket(const std::string&,
+                                                        const std::vector<std::string>&) const {
+    return Error{
+        "the hierarchical transport holds links, not the matrix F: write F with "
+        "--transport matrix"};
+}
+
+Expected<MatrixComparison> HierarchicalTransport::compare(const Transport& other,
+                                                          const MatrixCompareSettings&) const {
+    return Error{concat("cannot compare the hierarchical transport with the ", other.kind(),
+                        " transport entry by entry: compare the solutions patch by patch")};
+}
+
+HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengthCount) {
+    // Per patch, as measured (docs/hierarchical.md): about 500 near factors and 250 far links.
+    constexpr uint64_t kNearPerPatch = 500, kFarPerPatch = 250;
+    const uint64_t n = mesh.patchCount();
+    HierarchyEstimate estimate;
+    estimate.nearEntries = n * kNearPerPatch;
+    estimate.farLinks = n * kFarPerPatch;
+    const uint64_t nodes = n > 0 ? 2 * n - 1 : 0;
+    estimate.bytes = sparseMatrixBytes(n, estimate.nearEntries) +
+        2 * estimate.farLinks * sizeof(FarLink) + nodes * (sizeof(ClusterNode) + 8) +
+        n * (sizeof(Vec3d) + 2 * sizeof(double) + 8) + 2 * nodes * 3 * wavelengthCount * 8;
+    return estimate;
+}
+
+Expected<std::shared_ptr<const HierarchicalTransport>> buildHierarchicalTransport(
+    const PatchMesh& mesh, const RadiositySystem& system, const HierarchySettings& hierarchy,
+    const FormFactorSettings& settings) {
+    if (settings.method == FormFactorMethod::Stochastic) {
+        return Error{
+            "--transport hierarchical evaluates its links with the kernels of riemann, "
+            "nusselt or hybrid, not stochastic"};
+    }
+    if (!(hierarchy.linkTolerance > 0) || hierarchy.farRays < 1) {
+        return Error{concat("--link-tolerance must be > 0 (got ", hierarchy.linkTolerance, ")")};
+    }
+    auto caster =
+        makeRayCaster(mesh, {.packetMode = PacketMode::Stream, .watertightSegments = true});
+    if (!caster) return caster.error();
+    tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+    return arena.execute([&]() -> Expected<std::shared_ptr<const HierarchicalTransport>> {
+        ClusterTree tree = buildClusterTree(mesh);
+        const std::unique_ptr<PairEvaluator> evaluator =
+            makeRayPairEvaluator(mesh, settings, **caster);
+        auto links = buildHierarchicalLinks(mesh, tree, linkImportance(system), hierarchy, settings,
+                                            *evaluator, **caster);
+        if (!links) return links.error();
+        return std::make_shared<const HierarchicalTransport>(mesh, std::move(tree),
+                                                             std::move(*links));
+    });
+}
+
+}  // namespace daisy

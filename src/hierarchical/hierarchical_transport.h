@@ -1,0 +1,84 @@
+#pragma once
+// The hierarchical transport (Transport, radiosity/transport.h): links between nodes of a
+// cluster tree over the patches instead of the all-pairs matrix F, so memory and time grow
+// about linearly with the scene (hierarchical/hierarchical_links.h for the links and the
+// oracle that makes them, hierarchical/cluster_tree.h for the tree).
+//
+// G = T B, for B (n x m): the near links' sparse F B, plus the far links by push-pull:
+//   pull  P_k = sum over the patches j below node k of A_j n_j B_j (3 m values a node, children
+//         summed into parents);
+//   link  J_R = sum over R's far links (S, K, u) of K (-u . P_S) u;
+//   push  J of every node added into its children's, and G_l += n_l . J_l at each patch l.
+// Rows whose factors sum past 1 (rounding of the far field) are scaled to 1, far part included,
+// as the matrix path caps F's rows (radiosity/sparse_matrix.h, capRowSums).
+//
+// The patches stay the radiosity patches: every front end (vertex radiance, the final gather,
+// the viewer) works on them unchanged; row(i) gives the near links, the patches close enough
+// to i to need their own factors, which is what the near-field gather asks for.
+#include <memory>
+#include <vector>
+
+#include "core/expected.h"
+#include "geometry/patch_mesh.h"
+#include "hierarchical/cluster_tree.h"
+#include "hierarchical/hierarchical_links.h"
+#include "radiosity/radiosity_system.h"
+#include "radiosity/transport.h"
+
+namespace daisy {
+
+class HierarchicalTransport final : public Transport {
+public:
+    HierarchicalTransport(const PatchMesh& mesh, ClusterTree tree, HierarchicalLinks links);
+
+    const char* kind() const override { return "hierarchical"; }
+    uint32_t patchCount() const override { return links_.near.size; }
+    TransportStats stats() const override;
+    std::span<const double> rowSums() const override { return rowSums_; }
+    std::string checkStructure() const override;
+    void gather(std::span<const double> radiosity, std::size_t wavelengthCount,
+                std::span<double> gathered, int threads = 0) const override;
+    void gatherFrom(std::span<const uint8_t> sources, std::span<const uint8_t> receivers,
+                    std::span<const double> radiosity, std::size_t wavelengthCount,
+                    std::span<double> gathered) const override;
+    void row(uint32_t patch, std::vector<TransportEntry>& out) const override;
+    Expected<SolverResult> solve(const RadiositySystem& system,
+                                 SolverSettings settings) const override;
+    Expected<void> writeMatrixMarket(const std::string& path,
+                                     const std::vector<std::string>& comments) const override;
+    Expected<MatrixComparison> compare(const Transport& other,
+                                       const MatrixCompareSettings& settings) const override;
+
+    const ClusterTree& tree() const { return tree_; }
+    const HierarchicalLinks& links() const { return links_; }
+    // The far links' part of G = T B (n x m, overwritten), rows capped as the near part.
+    void farGather(std::span<const double> radiosity, std::size_t wavelengthCount,
+                   std::span<double> gathered) const;
+
+private:
+    ClusterTree tree_;
+    HierarchicalLinks links_;
+    std::vector<Vec3d> normals_;  // per patch
+    std::vector<double> areas_;  // per patch
+    std::vector<double> farScale_;  // per patch: the row cap's scale (1 when not capped)
+    std::vector<double> rowSums_;
+};
+
+// What the transport will hold before it is built, for --max-memory and `daisy info`: the tree,
+// links at the rates measured on the Cornell box and the default scene (docs/hierarchical.md),
+// and a gather's work arrays (the pull and push values, 3 m doubles a node each).
+struct HierarchyEstimate {
+    uint64_t nearEntries = 0;
+    uint64_t farLinks = 0;
+    uint64_t bytes = 0;
+};
+HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengthCount);
+
+// Builds the tree and the links on the CPU (Embree rays, TBB threads): the oracle weighs the
+// light of `system` (hierarchical/link_oracle.h), the near links are the cpu backend's pair
+// evaluation with `settings` (method, L, K, seed, threads, cancel).
+Expected<std::shared_ptr<const HierarchicalTransport>> buildHierarchicalTransport(
+    const PatchMesh& mesh, const RadiositySystem& system, const HierarchySettings& hierarchy,
+    const FormFactorSettings& settings);
+
+}  // namespace daisy

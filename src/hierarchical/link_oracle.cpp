@@ -1,0 +1,105 @@
+#include "hierarchical/link_oracle.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "spectral/cie_tables.h"
+
+namespace daisy {
+namespace {
+
+// CIE 1931 ybar at `nm`, linearly interpolated in the 1 nm table; 0 outside it.
+double ybarAt(double nm) {
+    const double x = nm - kCieCmfFirstNm;
+    if (!(x >= 0) || x > kCieCmfCount - 1) return 0;
+    const auto k = static_cast<std::size_t>(x);
+    const double t = x - double(k);
+    const double a = kCie1931Cmf[k][1];
+    const double b = k + 1 < kCieCmfCount ? kCie1931Cmf[k + 1][1] : a;
+    return a + (b - a) * t;
+}
+
+// sum_o M[o][k] weight_o w_o for every k: the weighted exitance per unit irradiance at k.
+std::vector<double> weightedColumns(const MaterialOperator& op, const std::vector<double>& weight,
+                                    const std::vector<double>& widths) {
+    const std::size_t m = widths.size();
+    std::vector<double> out(m, 0.0);
+    for (std::size_t o = 0; o < m; ++o) {
+        for (std::size_t k = 0; k <= o; ++k) {
+            const double value =
+                op.isDiagonal ? (k == o ? op.diagonal[o] : 0.0) : op.matrix.values[o * m + k];
+            out[k] += value * weight[o] * widths[o];
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+LinkImportance linkImportance(const RadiositySystem& system) {
+    const std::size_t n = system.patchCount, m = system.wavelengthCount;
+    const std::vector<double>& widths = system.binWidthsNm;
+    std::vector<double> ybar(m);
+    double peak = 0;
+    for (std::size_t k = 0; k < m; ++k)
+        peak = std::max(peak, ybar[k] = ybarAt(system.wavelengthsNm[k]));
+    for (double& y : ybar)
+        y = peak > 0 ? y / peak : 1.0;
+
+    // W_k: seen directly or after one fluorescent bounce.
+    std::vector<double> worth = ybar;
+    for (const MaterialOperator& op : system.operators) {
+        if (op.isDiagonal) continue;
+        const std::vector<double> columns = weightedColumns(op, ybar, widths);
+        for (std::size_t k = 0; k < m; ++k)
+            worth[k] = std::max(worth[k], widths[k] > 0 ? columns[k] / widths[k] : 0.0);
+    }
+
+    // The ambient irradiance Gbar.
+    std::vector<double> ambient(m, 0.0), reflectance(m, 0.0);
+    double totalArea = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double area = system.areas[i];
+        totalArea += area;
+        const MaterialOperator& op = system.operators[system.patchOperator[i]];
+        for (std::size_t k = 0; k < m; ++k) {
+            ambient[k] += area * system.emission[i * m + k];
+            reflectance[k] += area * (op.isZero ? 0.0 : op.diagonal[k]);
+        }
+    }
+    for (std::size_t k = 0; k < m; ++k) {
+        const double rho = totalArea > 0 ? std::min(0.95, reflectance[k] / totalArea) : 0.0;
+        ambient[k] = totalArea > 0 ? ambient[k] / totalArea / (1 - rho) : 0.0;
+    }
+
+    // Per operator: its one bounce of the ambient light and its yield.
+    std::vector<std::vector<double>> bounce(system.operators.size());
+    std::vector<double> yield(system.operators.size(), 0.0);
+    for (std::size_t p = 0; p < system.operators.size(); ++p) {
+        const MaterialOperator& op = system.operators[p];
+        bounce[p].resize(m);
+        applyOperator(op, ambient.data(), bounce[p].data());
+        const std::vector<double> columns = weightedColumns(op, worth, widths);
+        for (std::size_t k = 0; k < m; ++k) {
+            const double base = worth[k] * widths[k];
+            if (base > 0) yield[p] = std::max(yield[p], columns[k] / base);
+        }
+        yield[p] = std::clamp(yield[p], 0.0, 1.0);
+    }
+
+    LinkImportance importance;
+    importance.source.resize(n);
+    importance.yield.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const uint32_t p = system.patchOperator[i];
+        double source = 0;
+        for (std::size_t k = 0; k < m; ++k)
+            source += (system.emission[i * m + k] + bounce[p][k]) * worth[k] * widths[k];
+        importance.source[i] = source;
+        importance.yield[i] = yield[p];
+        importance.totalPower += system.areas[i] * source;
+    }
+    return importance;
+}
+
+}  // namespace daisy
