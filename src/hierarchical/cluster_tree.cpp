@@ -69,6 +69,11 @@ private:
         node.area = mesh_.areas[patch];
         node.coneAxis = mesh_.normals[patch];
         node.coneCos = 1;
+        node.slabLo = INFINITY, node.slabHi = -INFINITY;
+        for (uint32_t corner : mesh_.patches[patch]) {
+            const double offset = dot(node.coneAxis, mesh_.positions[corner]);
+            node.slabLo = std::min(node.slabLo, offset), node.slabHi = std::max(node.slabHi, offset);
+        }
     }
 
     // Orders order[first .. first + count) so that the first `half` patches have the smaller
@@ -119,6 +124,8 @@ private:
         if (!(norm > 1e-9 * node.area) || a.coneCos <= -1 || b.coneCos <= -1) {
             node.coneAxis = a.coneAxis;
             node.coneCos = -1;
+            const double offset = dot(node.coneAxis, node.center);
+            node.slabLo = offset - node.radius, node.slabHi = offset + node.radius;
             return;
         }
         node.coneAxis = sum / norm;
@@ -130,6 +137,19 @@ private:
                 std::max(halfAngle, between + std::acos(std::clamp(child->coneCos, -1.0, 1.0)));
         }
         node.coneCos = halfAngle >= M_PI ? -1 : std::cos(halfAngle);
+        if (node.isPlanar()) {
+            node.slabLo = INFINITY, node.slabHi = -INFINITY;
+            for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+                for (uint32_t corner : mesh_.patches[tree_.order[k]]) {
+                    const double offset = dot(node.coneAxis, mesh_.positions[corner]);
+                    node.slabLo = std::min(node.slabLo, offset);
+                    node.slabHi = std::max(node.slabHi, offset);
+                }
+            }
+        } else {
+            const double offset = dot(node.coneAxis, node.center);
+            node.slabLo = offset - node.radius, node.slabHi = offset + node.radius;
+        }
     }
 
     const PatchMesh& mesh_;

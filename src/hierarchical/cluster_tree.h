@@ -39,8 +39,15 @@ struct ClusterNode {
     Vec3d coneAxis;  // unit axis of the cone holding every patch normal
     // cos of the cone's half-angle; -1 when the normals do not fit in a half-space cone
     double coneCos = 1;
+    // The extent of the patches' corners along coneAxis, scene units: for a planar node
+    // (isPlanar) the exact range over its corners (lo == hi to rounding when the patches lie in
+    // one plane); otherwise the bounding sphere's.
+    double slabLo = 0, slabHi = 0;
 
     bool isLeaf() const { return count == 1; }
+    // Every patch normal within 4.5e-5 radians of the axis (the matrix path's coplanarity,
+    // radiosity/patch_clusters.h): the node is a (possibly thick) slab of one orientation.
+    bool isPlanar() const { return coneCos >= 1 - 1e-9; }
 };
 
 struct ClusterTree {

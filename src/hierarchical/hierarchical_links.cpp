@@ -22,8 +22,6 @@ constexpr std::size_t kParallelFrontier = 4096;
 // Shadow segments are trimmed by this share of their length at each end, so the patches they
 // start and end on (and their neighbours at a shared edge) do not block them.
 constexpr float kSegmentTrim = 1e-4f;
-// Angles are compared with this margin (radians) so rounding never lets a cosine reach 0.
-constexpr double kFacingMargin = 1e-6;
 
 struct FarRecord {
     uint32_t receiver, source;
@@ -43,18 +41,6 @@ struct Local {
     SegmentArrays segments;
     std::vector<uint8_t> blocked;
 };
-
-// The angle (radians) of the cone of node `node` plus `spread`, against direction `u`: whether
-// every normal in the cone faces every direction within `spread` of u (+1), faces none (-1), or
-// some (0).
-int facing(const ClusterNode& node, const Vec3d& u, double spread) {
-    if (node.coneCos <= -1) return 0;
-    const double half = std::acos(std::clamp(node.coneCos, -1.0, 1.0)) + spread;
-    const double axis = std::acos(std::clamp(dot(node.coneAxis, u), -1.0, 1.0));
-    if (axis + half < M_PI / 2 - kFacingMargin) return 1;
-    if (axis - half > M_PI / 2 + kFacingMargin) return -1;
-    return 0;
-}
 
 class Refiner {
 public:
@@ -99,36 +85,25 @@ public:
             next.push_back({a, b});
             return;
         }
-        const Vec3d between = s.center - r.center;
-        const double d = length(between);
-        const double rho = r.radius + s.radius;
-        const bool apart = d > rho;
-        if (apart) {
-            const Vec3d u = between / d;
-            const double spread = std::asin(std::min(1.0, rho / d));
-            const int rFaces = facing(r, u, spread), sFaces = facing(s, -u, spread);
-            if (rFaces < 0 || sFaces < 0) {
-                ++local.stats.facingAway;
-                return;
-            }
-            if (rFaces > 0 && sFaces > 0 && rho <= hierarchy_.maxAperture * d) {
-                const double gap = d - rho;
-                const double coupling =
-                    std::min({r.area, s.area, r.area * s.area / (M_PI * gap * gap)});
-                const double phi = coupling *
-                    (source_[pair.s] * yield_[pair.r] + source_[pair.r] * yield_[pair.s]);
-                if (phi * rho / d <= epsilon_ && far(pair, phi, local)) return;
-            }
+        const LinkDecision decision = chooseLink(
+            r, s, {source_[pair.r], yield_[pair.r], source_[pair.s], yield_[pair.s]}, epsilon_,
+            hierarchy_.maxAperture);
+        LinkChoice choice = decision.choice;
+        if (choice == LinkChoice::None) {
+            ++local.stats.facingAway;
+            return;
         }
-        // Two patches close together: the kernel decides (facing away gives 0 factors).
-        if (r.isLeaf() && s.isLeaf()) {
+        if (choice == LinkChoice::Far) {
+            if (far(pair, decision.power, local)) return;
+            choice = splitChoice(r, s);  // partly visible: refine
+        }
+        if (choice == LinkChoice::Near) {
             local.near.push_back({std::min(tree_.order[r.first], tree_.order[s.first]),
                                   std::max(tree_.order[r.first], tree_.order[s.first])});
             return;
         }
-        const bool splitR = !r.isLeaf() && (s.isLeaf() || r.radius >= s.radius);
-        const ClusterNode& split = splitR ? r : s;
-        for (uint32_t child : split.children)
+        const bool splitR = choice == LinkChoice::SplitReceiver;
+        for (uint32_t child : (splitR ? r : s).children)
             next.push_back(splitR ? Pair{child, pair.s} : Pair{pair.r, child});
     }
 

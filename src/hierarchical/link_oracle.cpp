@@ -34,7 +34,80 @@ std::vector<double> weightedColumns(const MaterialOperator& op, const std::vecto
     return out;
 }
 
+// Angles are compared with this margin (radians) so rounding never lets a cosine reach 0.
+constexpr double kFacingMargin = 1e-6;
+
+// Whether every normal in the cone of `node` faces every direction within `spread` (radians) of
+// the unit direction u (+1), none does (-1), or some do (0).
+int facing(const ClusterNode& node, const Vec3d& u, double spread) {
+    if (node.coneCos <= -1) return 0;
+    const double half = std::acos(std::clamp(node.coneCos, -1.0, 1.0)) + spread;
+    const double axis = std::acos(std::clamp(dot(node.coneAxis, u), -1.0, 1.0));
+    if (axis + half < M_PI / 2 - kFacingMargin) return 1;
+    if (axis - half > M_PI / 2 + kFacingMargin) return -1;
+    return 0;
+}
+
+// True when R is planar and every point of S lies behind R's slab or within it: every cosine
+// on R's side is <= 0 (or, within the slab's tilt of at most 4.5e-5 radians, all but 0), so the
+// two exchange nothing: coplanar parts of a wall, a wall and its own back faces. The matrix
+// path treats coplanar clusters the same way (radiosity/patch_clusters.h).
+bool behindPlane(const ClusterNode& r, const ClusterNode& s) {
+    if (!r.isPlanar()) return false;
+    const double tolerance = 1e-7 * (r.radius + s.radius);
+    const double along = dot(r.coneAxis, s.coneAxis);
+    double farthest;  // the largest offset of S's corners along R's axis
+    if (s.isPlanar() && along >= 1 - 1e-9) {
+        farthest = s.slabHi + (s.slabHi - s.slabLo);  // the axes differ by the tilt at most
+    } else if (s.isPlanar() && along <= -1 + 1e-9) {
+        farthest = -s.slabLo + (s.slabHi - s.slabLo);
+    } else {
+        farthest = dot(r.coneAxis, s.center) + s.radius;
+    }
+    return farthest <= r.slabHi + tolerance;
+}
+
 }  // namespace
+
+LinkChoice splitChoice(const ClusterNode& r, const ClusterNode& s) {
+    if (r.isLeaf() && s.isLeaf()) return LinkChoice::Near;
+    return !r.isLeaf() && (s.isLeaf() || r.radius >= s.radius) ? LinkChoice::SplitReceiver
+                                                               : LinkChoice::SplitSource;
+}
+
+LinkDecision chooseLink(const ClusterNode& r, const ClusterNode& s, const LinkWeights& weights,
+                        double epsilon, double maxAperture) {
+    LinkDecision decision;
+    if (behindPlane(r, s) || behindPlane(s, r)) {
+        decision.choice = LinkChoice::None;
+        return decision;
+    }
+    const Vec3d between = s.center - r.center;
+    const double d = length(between);
+    const double rho = r.radius + s.radius;
+    if (d > rho) {
+        const Vec3d u = between / d;
+        const double spread = std::asin(std::min(1.0, rho / d));
+        const int rFaces = facing(r, u, spread), sFaces = facing(s, -u, spread);
+        if (rFaces < 0 || sFaces < 0) {
+            decision.choice = LinkChoice::None;
+            return decision;
+        }
+        if (rFaces > 0 && sFaces > 0) {
+            const double gap = d - rho;
+            const double coupling = std::min({r.area, s.area, r.area * s.area / (M_PI * gap * gap)});
+            decision.power =
+                coupling * (weights.sourceS * weights.yieldR + weights.sourceR * weights.yieldS);
+            decision.error = decision.power * rho / d;
+            if (rho <= maxAperture * d && decision.error <= epsilon) {
+                decision.choice = LinkChoice::Far;
+                return decision;
+            }
+        }
+    }
+    decision.choice = splitChoice(r, s);
+    return decision;
+}
 
 LinkImportance linkImportance(const RadiositySystem& system) {
     const std::size_t n = system.patchCount, m = system.wavelengthCount;

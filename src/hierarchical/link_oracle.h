@@ -19,6 +19,7 @@
 //     yield_j  = max_k (sum_o M_j[o][k] W_o w_o) / (W_k w_k), clamped to [0, 1].
 #include <vector>
 
+#include "hierarchical/cluster_tree.h"
 #include "radiosity/radiosity_system.h"
 
 namespace daisy {
@@ -30,5 +31,31 @@ struct LinkImportance {
 };
 
 LinkImportance linkImportance(const RadiositySystem& system);
+
+// The oracle's geometric decision for two distinct nodes R and S, before visibility
+// (hierarchical/hierarchical_links.h gives the rules): no exchange (one side faces wholly away),
+// a far link, or a split of R or of S, or a near link (two leaves).
+enum class LinkChoice { None, Far, SplitReceiver, SplitSource, Near };
+
+struct LinkWeights {
+    double sourceR = 0, yieldR = 0;  // R's largest source and yield
+    double sourceS = 0, yieldS = 0;
+};
+
+struct LinkDecision {
+    LinkChoice choice = LinkChoice::Near;
+    // The power bound Phi (W) and its far-field error bound Phi rho / d; 0 when the spheres
+    // overlap or a side does not wholly face the other (no far link is possible then).
+    double power = 0;
+    double error = 0;
+};
+
+// When a pair is not linked: split the side with the larger bounding sphere (never a leaf), or
+// Near for two leaves.
+LinkChoice splitChoice(const ClusterNode& r, const ClusterNode& s);
+
+// epsilon: the largest error bound a far link may have (W); maxAperture: the largest rho / d.
+LinkDecision chooseLink(const ClusterNode& r, const ClusterNode& s, const LinkWeights& weights,
+                        double epsilon, double maxAperture);
 
 }  // namespace daisy
