@@ -983,8 +983,10 @@ int Viewer::run() {
                                         scene_.materials[material].name, "')")
                                : std::string("view: picked nothing"));
         }
-        // Scripted edits go in after the first frame, as a user's would.
-        if (!editsPosted && frameNumber >= 1) {
+        // Scripted edits go in after the first frame, once F is in hand and the first solve done
+        // (the worker idle), as a user's would: their timings are then the edit's own, not the
+        // rest of F's build or cache read.
+        if (!editsPosted && frameNumber >= 1 && worker_.idle()) {
             editsPosted = true;
             editPostedCpu_ = processCpuSeconds();
             for (const std::string& text : pendingEdits_) {
