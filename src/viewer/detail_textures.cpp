@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "core/check.h"
+#include "core/strings.h"
 #include "shared/viewer_types.h"
 #include "spectral/color.h"
 #include "vulkan/vk_check.h"
@@ -57,8 +58,42 @@ void imageBarrier(VkCommandBuffer commandBuffer, VkImage image, bool toShader) {
         nullptr, 0, nullptr, 1, &barrier);
 }
 
-// The images of createDetailTextures (one per scene image the textures read, plus the white
-// texel), uploaded through one staging buffer; `imageOf[k]` is texture k's image.
+// One image of createDetailTextures, made and filled through a staging buffer of its own (so the
+// upload's peak is one image, however many the scene has), into `result.images`.
+Expected<void> uploadImage(const VulkanContext& context, const TextureImage& image,
+                           DetailTextures& result) {
+    DAISY_CHECK(image.width >= 1 && image.height >= 1);
+    const uint32_t limit = context.properties.limits.maxImageDimension2D;
+    if (uint32_t(image.width) > limit || uint32_t(image.height) > limit) {
+        return Error{concat("texture ", image.name, " is ", image.width, " x ", image.height,
+                            ", over the ", limit, " texels a side that device '",
+                            context.properties.deviceName, "' samples")};
+    }
+    const VkDeviceSize bytes = VkDeviceSize(image.width) * VkDeviceSize(image.height) * 4;
+    auto made = createDeviceImage(
+        context, uint32_t(image.width), uint32_t(image.height), kTextureFormat,
+        VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, VK_IMAGE_ASPECT_COLOR_BIT);
+    if (!made) return made.error();
+    result.images.push_back(*made);
+    auto staging = createHostBuffer(context, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT);
+    if (!staging) return staging.error();
+    encodeTexels(image, static_cast<uint8_t*>(staging->mapped));
+    const VkImage target = made->image;
+    auto copied = submitAndWait(context, [&](VkCommandBuffer commandBuffer) {
+        imageBarrier(commandBuffer, target, false);
+        VkBufferImageCopy region{};
+        region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        region.imageExtent = {uint32_t(image.width), uint32_t(image.height), 1};
+        vkCmdCopyBufferToImage(commandBuffer, staging->buffer, target,
+                               VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
+        imageBarrier(commandBuffer, target, true);
+    });
+    destroyHostBuffer(context, *staging);
+    return copied;
+}
+
+// The images of createDetailTextures: one per scene image the textures read, plus the white
+// texel; `imageOf[k]` is texture k's image.
 Expected<void> uploadImages(const VulkanContext& context, const Scene& scene,
                             const DetailVertices& detail, DetailTextures& result,
                             std::vector<std::size_t>& imageOf) {
@@ -68,48 +103,13 @@ Expected<void> uploadImages(const VulkanContext& context, const Scene& scene,
         imageOf.push_back(std::size_t(found - sources.begin()));
         if (found == sources.end()) sources.push_back(texture.image);
     }
-    static const TextureImage kWhite{"white", 1, 1, {1, 1, 1}};
-    const auto imageAt = [&](int source) -> const TextureImage& {
-        return source < 0 ? kWhite : scene.textures[std::size_t(source)];
-    };
-    VkDeviceSize bytes = 0;
-    for (int source : sources)
-        bytes += VkDeviceSize(imageAt(source).width) * VkDeviceSize(imageAt(source).height) * 4;
-    auto staging = createHostBuffer(context, bytes, VK_BUFFER_USAGE_TRANSFER_SRC_BIT);
-    if (!staging) return staging.error();
-    std::vector<VkDeviceSize> offsets;
-    VkDeviceSize offset = 0;
+    static const TextureImage kWhite{"(white texel)", 1, 1, {1, 1, 1}};
     for (int source : sources) {
-        const TextureImage& image = imageAt(source);
-        DAISY_CHECK(image.width >= 1 && image.height >= 1);
-        offsets.push_back(offset);
-        encodeTexels(image, static_cast<uint8_t*>(staging->mapped) + offset);
-        offset += VkDeviceSize(image.width) * VkDeviceSize(image.height) * 4;
-        auto made = createDeviceImage(context, uint32_t(image.width), uint32_t(image.height),
-                                      kTextureFormat,
-                                      VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT,
-                                      VK_IMAGE_ASPECT_COLOR_BIT);
-        if (!made) {
-            destroyHostBuffer(context, *staging);
-            return made.error();
-        }
-        result.images.push_back(*made);
+        auto uploaded =
+            uploadImage(context, source < 0 ? kWhite : scene.textures[std::size_t(source)], result);
+        if (!uploaded) return uploaded;
     }
-    auto copied = submitAndWait(context, [&](VkCommandBuffer commandBuffer) {
-        for (std::size_t k = 0; k < sources.size(); ++k) {
-            const TextureImage& image = imageAt(sources[k]);
-            imageBarrier(commandBuffer, result.images[k].image, false);
-            VkBufferImageCopy region{};
-            region.bufferOffset = offsets[k];
-            region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-            region.imageExtent = {uint32_t(image.width), uint32_t(image.height), 1};
-            vkCmdCopyBufferToImage(commandBuffer, staging->buffer, result.images[k].image,
-                                   VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-            imageBarrier(commandBuffer, result.images[k].image, true);
-        }
-    });
-    destroyHostBuffer(context, *staging);
-    return copied;
+    return {};
 }
 
 // What createDetailTextures makes, into `result`; what it made stays there when it fails, for
