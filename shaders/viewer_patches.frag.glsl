@@ -1,7 +1,9 @@
 #version 450
 // The viewer's patches: XYZ radiance -> exposed linear RGB -> clip -> sRGB curve (the same steps
 // as daisy render's PNG, src/image/exposure.h), or a scalar on the false-colour ramp; optional
-// wireframe edges.
+// wireframe edges. The texture_detail variant (-DDAISY_TEXTURE_DETAIL) multiplies the colour view's
+// linear RGB by texel x factor per channel, `daisy render`'s texel / patch mean
+// (src/image/texture_detail.h; the factor from src/viewer/detail_vertices.h, negative: ratio 1).
 #extension GL_GOOGLE_include_directive : require
 #include "shared/viewer_types.h"
 
@@ -14,6 +16,11 @@ layout(location = 1) in vec3 inBarycentric;
 layout(location = 2) flat in float inTwoSided;
 layout(location = 3) flat in uint inPicked;
 layout(location = 0) out vec4 outColour;
+#ifdef DAISY_TEXTURE_DETAIL
+layout(location = 4) in vec2 inUv;
+layout(location = 5) in vec3 inFactor;
+layout(set = 0, binding = DAISY_VIEWER_DETAIL_BINDING) uniform sampler2D detailTexture;
+#endif
 
 // IEC 61966-2-1 transfer curve, and its inverse.
 float encodeSrgb(float c) {
@@ -38,6 +45,12 @@ void main() {
         vec3 rgb = vec3(dot(vec3(p.colourRows[0], p.colourRows[1], p.colourRows[2]), xyz),
                         dot(vec3(p.colourRows[3], p.colourRows[4], p.colourRows[5]), xyz),
                         dot(vec3(p.colourRows[6], p.colourRows[7], p.colourRows[8]), xyz));
+#ifdef DAISY_TEXTURE_DETAIL
+        vec3 texel = textureLod(detailTexture, inUv, 0.0).rgb;
+        rgb *= vec3(inFactor.x < 0.0 ? 1.0 : inFactor.x * texel.x,
+                    inFactor.y < 0.0 ? 1.0 : inFactor.y * texel.y,
+                    inFactor.z < 0.0 ? 1.0 : inFactor.z * texel.z);
+#endif
         rgb = clamp(rgb, vec3(0.0), vec3(1.0));
         display = encode ? vec3(encodeSrgb(rgb.x), encodeSrgb(rgb.y), encodeSrgb(rgb.z)) : rgb;
     }

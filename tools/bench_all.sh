@@ -63,6 +63,8 @@ if [[ $quick == 1 ]]; then
     viewArgs=(--width 320 --height 240)
     idleFrames=20
     posterEdit='light.reflectance=rgb(0.2,0.6,0.9)'
+    viewBigScene="$scenes/cornell_box.gltf"
+    viewBigArgs=(--subdivide 0.1)
     accuracyRuns=("cornell_box 0")  # 0: daisy bench --quick
     largeSizes=(5000 20000)
     largeArgs=(--max-memory 64M)  # so that the refusal is exercised too
@@ -78,6 +80,8 @@ else
     viewArgs=(--width 1280 --height 720)
     idleFrames=300
     posterEdit='poster_white.reflectance=rgb(0.2,0.6,0.9)'
+    viewBigScene="$scenes/cornell_box.gltf"
+    viewBigArgs=(--subdivide 0.03)  # 12,544 patches
     accuracyRuns=("cornell_box 4096" "colored_lights 2048" "blacklight_box 8192")
     largeSizes=(30000 250000)
     largeArgs=()
@@ -85,6 +89,7 @@ else
     rounds="${rounds:-3}"
 fi
 wallEdit='white.reflectance=rgb(0.5,0.5,0.5)'
+bigEdit='red.reflectance=rgb(0.1,0.6,0.2)'
 # Mesa's lavapipe manifest: lvp_icd.json from Mesa 25, lvp_icd.<arch>.json before.
 lavapipe=""
 for manifest in /usr/share/vulkan/icd.d/lvp_icd.json /usr/share/vulkan/icd.d/lvp_icd.*.json; do
@@ -377,56 +382,79 @@ section_viewer() {
     fi
     local vk=()
     [[ -f $lavapipe ]] && vk=(VK_ICD_FILENAMES="$lavapipe")
-    local scene
+    local scene big
     scene=$(rel "$mainScene")
+    big=$(rel "$viewBigScene")
     local view=("$daisy" view "$scene" "${meshArgs[@]}" "${viewArgs[@]}" --exposure 6)
-    # F in the cache first, so that every run below reads it.
+    local bigView=("$daisy" view "$big" "${viewBigArgs[@]}" "${viewArgs[@]}" --exposure 6)
+    local coldCache="$work/xdg-cold"
+    local loadStart
+    loadStart=$(cut -d' ' -f1-3 /proc/loadavg)
+    # F of both scenes in the cache first, so that every warm run below reads it.
     if [[ $dry == 1 || ! -d $cache ]]; then
         run view-fill env XDG_CACHE_HOME="$cache" "$daisy" solve "$scene" "${meshArgs[@]}" -q
     fi
+    run view-fill-big env XDG_CACHE_HOME="$cache" "$daisy" solve "$big" "${viewBigArgs[@]}" -q
     local i
     for ((i = 1; i <= rounds; i++)); do
         run "view-first$i" env "${vk[@]}" XDG_CACHE_HOME="$cache" "${xvfb[@]}" /usr/bin/time -f 'launch-to-exit %e' "${view[@]}" --frames 1
         run "view-poster$i" env "${vk[@]}" XDG_CACHE_HOME="$cache" "${xvfb[@]}" "${view[@]}" --frames 3 --edit "$posterEdit"
         run "view-white$i" env "${vk[@]}" XDG_CACHE_HOME="$cache" "${xvfb[@]}" "${view[@]}" --frames 3 --edit "$wallEdit"
+        run "view-big$i" env "${vk[@]}" XDG_CACHE_HOME="$cache" "${xvfb[@]}" "${bigView[@]}" --frames 3 --edit "$bigEdit"
+        # An empty cache: F built after the first picture (the emitters' direct light).
+        [[ $dry == 1 ]] || rm -rf "$coldCache"
+        run "view-cold$i" env "${vk[@]}" XDG_CACHE_HOME="$coldCache" "${xvfb[@]}" "${view[@]}" --frames 1
     done
     run view-idle env "${vk[@]}" XDG_CACHE_HOME="$cache" "${xvfb[@]}" "${view[@]}" --frames "$idleFrames"
     [[ $dry == 1 ]] && return 0
-    local first=() pFirst=() pConv=() wFirst=() wConv=() pIts="" wIts=""
+    # vals[KIND,WHAT]: the rounds' values, space-separated; its[KIND]: the last round's iterations.
+    local -A vals=() its=()
+    local kind line
     for ((i = 1; i <= rounds; i++)); do
-        first+=("$(sed -n 's/^launch-to-exit \([0-9.]*\)/\1/p' "$work/view-first$i.log" | tail -n 1)")
-        local kind
-        for kind in poster white; do
-            local line
+        vals[launch]+=" $(sed -n 's/^launch-to-exit \([0-9.]*\)/\1/p' "$work/view-first$i.log" | tail -n 1)"
+        vals[warm]+=" $(sed -n 's/.*view: first frame \([0-9.e+]*\) ms.*/\1/p' "$work/view-first$i.log" | head -n 1)"
+        vals[cold]+=" $(sed -n 's/.*view: first frame \([0-9.e+]*\) ms.*/\1/p' "$work/view-cold$i.log" | head -n 1)"
+        for kind in poster white big; do
             line=$(grep -m1 'edit -> first updated frame' "$work/view-$kind$i.log" || true)
             [[ -n $line ]] || { echo "bench_all: no edit timing in view-$kind$i.log" >&2; tail -n 20 "$work/view-$kind$i.log" >&2; exit 1; }
-            local f c its
-            f=$(sed -n 's/.*first updated frame \([0-9.e+]*\) ms.*/\1/p' <<<"$line")
-            c=$(sed -n 's/.*converged frame \([0-9.e+]*\) ms.*/\1/p' <<<"$line")
-            its=$(sed -n 's/.*; \([0-9]*\) iterations.*/\1/p' <<<"$line")
-            if [[ $kind == poster ]]; then pFirst+=("$f"); pConv+=("$c"); pIts=$its; else wFirst+=("$f"); wConv+=("$c"); wIts=$its; fi
+            vals[$kind,first]+=" $(sed -n 's/.*first updated frame \([0-9.e+]*\) ms.*/\1/p' <<<"$line")"
+            vals[$kind,cpu]+=" $(sed -n 's/.* with \([0-9.e+]*\) ms of process CPU.*/\1/p' <<<"$line")"
+            vals[$kind,conv]+=" $(sed -n 's/.*converged frame \([0-9.e+]*\) ms.*/\1/p' <<<"$line")"
+            its[$kind]=$(sed -n 's/.*; \([0-9]*\) iterations.*/\1/p' <<<"$line")
         done
     done
-    local idle frame peak size
+    local idle frame peak size patches bigPatches
     idle=$(grep -m1 'mean frame time' "$work/view-idle.log")
     frame=$(sed -n 's/.*mean frame time \([0-9.e+]*\) ms.*/\1/p' <<<"$idle")
     size=$(sed -n 's/.* ms at \([0-9]* x [0-9]*\);.*/\1/p' <<<"$idle")
     peak=$(sed -n 's/.*peak memory \(.*\)$/\1/p' <<<"$idle")
+    patches=$(sed -n 's/.* \([0-9,]*\) patches x .*/\1/p' "$work/view-poster1.log" | head -n 1)
+    bigPatches=$(sed -n 's/.* \([0-9,]*\) patches x .*/\1/p' "$work/view-big1.log" | head -n 1)
+    ms() { FMT=%.0f stats ${vals[$1]}; }
     {
         echo "| measurement | value |"
         echo "|---|---|"
-        echo "| launch to the first frame and exit, F cached (process wall, median of $rounds) | **$(stats "${first[@]}") s** |"
-        echo "| edit one poster: first updated frame | **$(FMT=%.0f stats "${pFirst[@]}") ms** |"
-        echo "| edit one poster: converged frame ($pIts iterations) | **$(FMT=%.0f stats "${pConv[@]}") ms** |"
-        echo "| edit the walls and ceiling: first updated frame | **$(FMT=%.0f stats "${wFirst[@]}") ms** |"
-        echo "| edit the walls and ceiling: converged frame ($wIts iterations) | **$(FMT=%.0f stats "${wConv[@]}") ms** |"
+        echo "| launch to the first frame and exit, F cached (process wall, median of $rounds) | **$(stats ${vals[launch]}) s** |"
+        echo "| command to the first frame, warm (F and B cached: the converged solution) | **$(ms warm) ms** |"
+        echo "| command to the first frame, cold (empty cache: the emitters' direct light) | **$(ms cold) ms** |"
+        echo "| edit one poster: first updated frame | **$(ms poster,first) ms** |"
+        echo "| edit one poster: process CPU from the edit to that frame drawn | **$(ms poster,cpu) ms** |"
+        echo "| edit one poster: converged frame (${its[poster]} iterations) | **$(ms poster,conv) ms** |"
+        echo "| edit the walls and ceiling: first updated frame | **$(ms white,first) ms** |"
+        echo "| edit the walls and ceiling: process CPU from the edit to that frame drawn | **$(ms white,cpu) ms** |"
+        echo "| edit the walls and ceiling: converged frame (${its[white]} iterations) | **$(ms white,conv) ms** |"
+        echo "| $(basename "$big") ($bigPatches patches), edit the red wall: first updated frame | **$(ms big,first) ms** |"
+        echo "| $(basename "$big") ($bigPatches patches), edit the red wall: process CPU from the edit to that frame drawn | **$(ms big,cpu) ms** |"
+        echo "| $(basename "$big") ($bigPatches patches), edit the red wall: converged frame (${its[big]} iterations) | **$(ms big,conv) ms** |"
         echo "| frame time, idle, $idleFrames frames at $size | **$frame ms** |"
         echo "| peak memory (idle run) | $peak |"
         stamp "XDG_CACHE_HOME=\$TMP/xdg ${xvfb[*]} /usr/bin/time $(shown "${view[@]}") --frames 1" \
               "XDG_CACHE_HOME=\$TMP/xdg ${xvfb[*]} $(shown "${view[@]}") --frames 3 --edit '$posterEdit'" \
               "XDG_CACHE_HOME=\$TMP/xdg ${xvfb[*]} $(shown "${view[@]}") --frames 3 --edit '$wallEdit'" \
+              "XDG_CACHE_HOME=\$TMP/xdg ${xvfb[*]} $(shown "${bigView[@]}") --frames 3 --edit '$bigEdit'" \
+              "XDG_CACHE_HOME=\$TMP/xdg-cold ${xvfb[*]} $(shown "${view[@]}") --frames 1   # after rm -rf \$TMP/xdg-cold" \
               "XDG_CACHE_HOME=\$TMP/xdg ${xvfb[*]} $(shown "${view[@]}") --frames $idleFrames" \
-              "(the first three interleaved, $rounds times; ${vk[*]:-the default Vulkan driver})"
+              "(the first five interleaved, $rounds times, median (range); ${vk[*]:-the default Vulkan driver}; $scene has $patches patches; load average $loadStart at the start)"
     } | table viewer
 }
 

@@ -1,5 +1,8 @@
 #pragma once
-// Wall-clock timing of stages (seconds, steady clock): the one helper every module uses.
+// Wall-clock timing of stages (seconds, steady clock): the one helper every module uses; and the
+// process's CPU time.
+#include <time.h>
+
 #include <chrono>
 
 namespace daisy {
@@ -21,5 +24,12 @@ public:
 private:
     Clock::time_point start_;
 };
+
+// CPU seconds the whole process (every thread) has used so far (POSIX CLOCK_PROCESS_CPUTIME_ID).
+inline double processCpuSeconds() {
+    timespec now{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+    return double(now.tv_sec) + 1e-9 * double(now.tv_nsec);
+}
 
 }  // namespace daisy

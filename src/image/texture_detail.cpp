@@ -7,8 +7,6 @@
 namespace daisy {
 namespace {
 
-constexpr double kSmallestMean = 1e-6;  // below this a channel's ratio is 1 (no detail)
-
 double luminance(const Rgb3& rgb) {
     return 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];  // Rec. 709 Y weights
 }
@@ -51,6 +49,12 @@ void resolveBackFace(const PatchMesh& patches, const Ray& ray, SurfaceHit& hit) 
     hit.v = static_cast<float>(mapped[2]);
 }
 
+DetailSource detailSource(const PatchAppearance& appearance, uint32_t i) {
+    if (appearance.emissionVaries[i] && luminance(appearance.emission[i]) > kSmallestDetailMean)
+        return DetailSource::Emission;
+    return appearance.reflectanceVaries[i] ? DetailSource::Reflectance : DetailSource::None;
+}
+
 void SurfaceDetail::resolve(const Ray& ray, SurfaceHit& hit) const {
     if (hasBackPatches_) resolveBackFace(patches_, ray, hit);
 }
@@ -58,9 +62,9 @@ void SurfaceDetail::resolve(const Ray& ray, SurfaceHit& hit) const {
 void SurfaceDetail::shade(const SurfaceHit& hit, std::span<double> values) const {
     if (appearance_.empty()) return;
     const uint32_t i = hit.patch;
-    const bool emits =
-        appearance_.emissionVaries[i] && luminance(appearance_.emission[i]) > kSmallestMean;
-    if (!emits && !appearance_.reflectanceVaries[i]) return;
+    const DetailSource follows = detailSource(appearance_, i);
+    if (follows == DetailSource::None) return;
+    const bool emits = follows == DetailSource::Emission;
     const auto& corners = appearance_.cornerWeights[i];
     const double w[3] = {1.0 - hit.u - hit.v, hit.u, hit.v};
     std::array<double, 3> source{0, 0, 0};
@@ -73,10 +77,10 @@ void SurfaceDetail::shade(const SurfaceHit& hit, std::span<double> values) const
     const Rgb3& mean = emits ? appearance_.emission[i] : appearance_.reflectance[i];
     Rgb ratio{1, 1, 1};
     for (int c = 0; c < 3; ++c) {
-        if (mean[c] > kSmallestMean) ratio[c] = point[c] / mean[c];
+        if (mean[c] > kSmallestDetailMean) ratio[c] = point[c] / mean[c];
     }
     const double meanY = luminance(mean);
-    const double yRatio = meanY > kSmallestMean ? luminance(point) / meanY : 1.0;
+    const double yRatio = meanY > kSmallestDetailMean ? luminance(point) / meanY : 1.0;
     for (std::size_t k = 0; k < spectralChannels_; ++k)
         values[k] *= yRatio;
     double* xyz = values.data() + spectralChannels_;

@@ -16,23 +16,18 @@
 
 namespace daisy {
 
+// A mean channel at or below this has ratio 1 (no detail).
+inline constexpr double kSmallestDetailMean = 1e-6;
+
+// Which of patch `i`'s colours the image's texture detail follows: its emission where that varies
+// and the patch emits, else its reflectance where that varies, else neither. `appearance` is not
+// empty. The viewer's texture detail (viewer/detail_vertices.h) makes the same choice.
+enum class DetailSource { None, Reflectance, Emission };
+DetailSource detailSource(const PatchAppearance& appearance, uint32_t i);
+
 // Moves a hit on a double-sided surface seen from behind to its back patch, the corner weights
 // permuted to match (the two patches share their vertices). One-sided patches stay as they are.
 void resolveBackFace(const PatchMesh& patches, const Ray& ray, SurfaceHit& hit);
-
-// The back-face part of SurfaceDetail alone, for images of per-corner values without texture
-// detail (the viewer's exposure measurement).
-class BackFaceShader final : public SampleShader {
-public:
-    explicit BackFaceShader(const PatchMesh& patches) : patches_(patches) {}
-    void resolve(const Ray& ray, SurfaceHit& hit) const override {
-        resolveBackFace(patches_, ray, hit);
-    }
-    void shade(const SurfaceHit&, std::span<double>) const override {}
-
-private:
-    const PatchMesh& patches_;
-};
 
 class SurfaceDetail final : public SampleShader {
 public:

@@ -34,9 +34,11 @@ public:
     // Texels the triangle's uv image covers for `ref` (to size a patch's sampling).
     double texelsCovered(uint32_t t, const TextureRef& ref) const;
     const Scene& scene() const { return scene_; }
+    // TEXCOORD_<set> at the point of triangle `t` with corner weights `w` ((0, 0) when the mesh
+    // has no such set), before the texture's transform.
+    std::array<double, 2> uv(uint32_t t, int set, const std::array<double, 3>& w) const;
 
 private:
-    std::array<double, 2> uv(uint32_t t, int set, const std::array<double, 3>& w) const;
     const Scene& scene_;
 };
 

@@ -12,6 +12,8 @@
 // ViewerPush.flags bits.
 #define DAISY_VIEWER_FLAG_ENCODE_SRGB 1u  // the target is UNORM: apply the sRGB transfer curve
 #define DAISY_VIEWER_FLAG_WIREFRAME 2u  // draw the patch edges over the shading
+// The texture detail's sampled image (set 0), read by the shaders' texture_detail variant.
+#define DAISY_VIEWER_DETAIL_BINDING 0
 
 DAISY_SHARED_BEGIN
 

@@ -25,12 +25,16 @@ Expected<VkShaderModule> shaderModule(const VulkanContext& context, const char* 
 // it made stays in `result` when it fails, for the caller to destroy.
 Expected<void> makePatchPipeline(const VulkanContext& context, VkRenderPass renderPass,
                                  VkShaderModule vertex, VkShaderModule fragment,
-                                 PatchPipeline& result) {
+                                 VkDescriptorSetLayout detailLayout, PatchPipeline& result) {
     const VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                                     sizeof(shared::ViewerPush)};
     VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
     layoutInfo.pushConstantRangeCount = 1;
     layoutInfo.pPushConstantRanges = &range;
+    if (detailLayout) {
+        layoutInfo.setLayoutCount = 1;
+        layoutInfo.pSetLayouts = &detailLayout;
+    }
     VK_CHECK(vkCreatePipelineLayout(context.device, &layoutInfo, nullptr, &result.layout));
 
     VkPipelineShaderStageCreateInfo stages[2]{};
@@ -43,16 +47,21 @@ Expected<void> makePatchPipeline(const VulkanContext& context, VkRenderPass rend
     stages[1].module = fragment;
     stages[1].pName = "main";
 
-    const VkVertexInputBindingDescription bindings[2] = {
+    // Positions, values, and with texture detail its uv and factor (viewer/detail_vertices.h).
+    const VkVertexInputBindingDescription bindings[3] = {
         {0, 4 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX},
-        {1, 4 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX}};
-    const VkVertexInputAttributeDescription attributes[2] = {
-        {0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 0}, {1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 0}};
+        {1, 4 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX},
+        {2, kDetailFloats * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX}};
+    const VkVertexInputAttributeDescription attributes[4] = {
+        {0, 0, VK_FORMAT_R32G32B32A32_SFLOAT, 0},
+        {1, 1, VK_FORMAT_R32G32B32A32_SFLOAT, 0},
+        {2, 2, VK_FORMAT_R32G32_SFLOAT, 0},
+        {3, 2, VK_FORMAT_R32G32B32_SFLOAT, 2 * sizeof(float)}};
     VkPipelineVertexInputStateCreateInfo vertexInput{
         VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    vertexInput.vertexBindingDescriptionCount = 2;
+    vertexInput.vertexBindingDescriptionCount = detailLayout ? 3 : 2;
     vertexInput.pVertexBindingDescriptions = bindings;
-    vertexInput.vertexAttributeDescriptionCount = 2;
+    vertexInput.vertexAttributeDescriptionCount = detailLayout ? 4 : 2;
     vertexInput.pVertexAttributeDescriptions = attributes;
     VkPipelineInputAssemblyStateCreateInfo assembly{
         VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
@@ -108,16 +117,19 @@ Expected<void> makePatchPipeline(const VulkanContext& context, VkRenderPass rend
 
 }  // namespace
 
-Expected<PatchPipeline> createPatchPipeline(const VulkanContext& context, VkRenderPass renderPass) {
-    auto vertex = shaderModule(context, "viewer_patches.vert");
+Expected<PatchPipeline> createPatchPipeline(const VulkanContext& context, VkRenderPass renderPass,
+                                            VkDescriptorSetLayout detailLayout) {
+    auto vertex = shaderModule(
+        context, detailLayout ? "viewer_patches.vert/texture_detail" : "viewer_patches.vert");
     if (!vertex) return vertex.error();
-    auto fragment = shaderModule(context, "viewer_patches.frag");
+    auto fragment = shaderModule(
+        context, detailLayout ? "viewer_patches.frag/texture_detail" : "viewer_patches.frag");
     if (!fragment) {
         vkDestroyShaderModule(context.device, *vertex, nullptr);
         return fragment.error();
     }
     PatchPipeline result;
-    auto made = makePatchPipeline(context, renderPass, *vertex, *fragment, result);
+    auto made = makePatchPipeline(context, renderPass, *vertex, *fragment, detailLayout, result);
     vkDestroyShaderModule(context.device, *vertex, nullptr);
     vkDestroyShaderModule(context.device, *fragment, nullptr);
     if (!made) {
@@ -182,7 +194,7 @@ void destroyPatchBuffers(const VulkanContext& context, PatchBuffers& buffers) {
 
 void recordPatches(VkCommandBuffer commandBuffer, const PatchPipeline& pipeline,
                    const PatchBuffers& buffers, int frame, const shared::ViewerPush& push,
-                   VkRect2D area) {
+                   VkRect2D area, const DetailTextures* detail) {
     if (buffers.vertexCount == 0) return;
     vkCmdBindPipeline(commandBuffer, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.pipeline);
     const VkViewport viewport{float(area.offset.x),
@@ -197,11 +209,22 @@ void recordPatches(VkCommandBuffer commandBuffer, const PatchPipeline& pipeline,
     vkCmdPushConstants(commandBuffer, pipeline.layout,
                        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(push),
                        &push);
-    const VkBuffer vertexBuffers[2] = {buffers.positions.buffer,
-                                       buffers.values[std::size_t(frame)].buffer};
-    const VkDeviceSize offsets[2] = {0, 0};
-    vkCmdBindVertexBuffers(commandBuffer, 0, 2, vertexBuffers, offsets);
-    vkCmdDraw(commandBuffer, buffers.vertexCount, 1, 0, 0);
+    const VkBuffer vertexBuffers[3] = {buffers.positions.buffer,
+                                       buffers.values[std::size_t(frame)].buffer,
+                                       detail ? detail->vertices.buffer : VK_NULL_HANDLE};
+    const VkDeviceSize offsets[3] = {0, 0, 0};
+    vkCmdBindVertexBuffers(commandBuffer, 0, detail ? 3 : 2, vertexBuffers, offsets);
+    if (!detail) {
+        vkCmdDraw(commandBuffer, buffers.vertexCount, 1, 0, 0);
+        return;
+    }
+    // One draw per run of patches sharing a texture; firstVertex keeps gl_VertexIndex the
+    // patch-order index the picked patch is found by.
+    for (const DetailRun& run : detail->runs) {
+        vkCmdBindDescriptorSets(commandBuffer, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline.layout, 0,
+                                1, &detail->sets[run.texture], 0, nullptr);
+        vkCmdDraw(commandBuffer, 3 * run.patchCount, 1, 3 * run.firstPatch, 0);
+    }
 }
 
 }  // namespace daisy::viewer

@@ -4,7 +4,9 @@
 // material boundaries), positions in one buffer, display values in one buffer per frame in
 // flight, depth tested (reverse-Z), no culling (the radiosity solution is two-sided only where
 // the scene is, and a back face seen from inside an open box must still hide what is behind it).
-// Shaders: shaders/viewer_patches.{vert,frag}.glsl; push constants: shared/viewer_types.h.
+// Shaders: shaders/viewer_patches.{vert,frag}.glsl; push constants: shared/viewer_types.h. With
+// texture detail (viewer/detail_textures.h) the shaders' texture_detail variant reads a third
+// vertex buffer and one texture per run of patches; without it the pipeline is the plain one.
 #include <volk.h>
 
 #include <vector>
@@ -12,6 +14,7 @@
 #include "core/expected.h"
 #include "geometry/patch_mesh.h"
 #include "shared/viewer_types.h"
+#include "viewer/detail_textures.h"
 #include "viewer/gpu_resources.h"
 #include "vulkan/context.h"
 
@@ -22,8 +25,10 @@ struct PatchPipeline {
     VkPipeline pipeline = VK_NULL_HANDLE;
 };
 
-// An Error (VK_CHECK) when the driver fails to make it; nothing is left allocated then.
-Expected<PatchPipeline> createPatchPipeline(const VulkanContext& context, VkRenderPass renderPass);
+// The plain pipeline, or with `detailLayout` (DetailTextures::setLayout) the texture detail's. An
+// Error (VK_CHECK) when the driver fails to make it; nothing is left allocated then.
+Expected<PatchPipeline> createPatchPipeline(const VulkanContext& context, VkRenderPass renderPass,
+                                            VkDescriptorSetLayout detailLayout = VK_NULL_HANDLE);
 void destroyPatchPipeline(const VulkanContext& context, PatchPipeline& pipeline);
 
 struct PatchBuffers {
@@ -40,9 +45,10 @@ Expected<PatchBuffers> createPatchBuffers(const VulkanContext& context, const Pa
 void destroyPatchBuffers(const VulkanContext& context, PatchBuffers& buffers);
 
 // Draws the patches with `values` buffer `frame` into the render pass begun on `commandBuffer`
-// (viewport and scissor set to `area`, the window right of the docked panel).
+// (viewport and scissor set to `area`, the window right of the docked panel); `detail` is given
+// exactly when `pipeline` was made with its layout.
 void recordPatches(VkCommandBuffer commandBuffer, const PatchPipeline& pipeline,
                    const PatchBuffers& buffers, int frame, const shared::ViewerPush& push,
-                   VkRect2D area);
+                   VkRect2D area, const DetailTextures* detail = nullptr);
 
 }  // namespace daisy::viewer

@@ -45,6 +45,7 @@ SolveWorker::SolveWorker(Session session, bool waitForFirstFrame)
     : session_(std::move(session)),
       patches_(session_.patches()),
       initialScene_(session_.scene()),
+      initialAppearance_(session_.appearance()),
       waitForFirstFrame_(waitForFirstFrame) {
     if (session_.hasSolution()) iteration_ = session_.solution().iterations;
     if (session_.hasFormFactors()) {

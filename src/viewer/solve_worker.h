@@ -117,6 +117,9 @@ public:
     // Immutable after construction, safe to read from any thread.
     const PatchMesh& patches() const { return patches_; }
     const Scene& initialScene() const { return initialScene_; }
+    // The patch means of textured and vertex-coloured materials as loaded (Session::appearance);
+    // edits change spectral members only, so the texture detail's ratios stay as they are.
+    const PatchAppearance& initialAppearance() const { return initialAppearance_; }
     // Of F once made: its sizes, and its kind ("matrix"; "" while F is being made).
     TransportStats transportStats() const;
     const char* transportKind() const;
@@ -143,6 +146,7 @@ private:
     Session session_;
     const PatchMesh& patches_;
     Scene initialScene_;
+    PatchAppearance initialAppearance_;
     TransportStats transportStats_;  // guarded by mutex_, as the members below
     const char* transportKind_ = "";
     BuildProgress progress_;
