@@ -11,6 +11,10 @@ namespace {
 
 // Subtrees of at least this many patches are built as parallel tasks.
 constexpr uint32_t kParallelPatches = 4096;
+// The normal keys count as this many bounding-box diagonals of spatial extent: enough to part
+// a thin surface's two sides once nodes are small (weighing them more, so orientation splits
+// first, measured worse: 3.8% against 1.0% RMS on the Cornell box, for 12% fewer links).
+constexpr double kNormalWeight = 0.5;
 
 struct Box {
     Vec3d lo{INFINITY, INFINITY, INFINITY};
@@ -21,6 +25,13 @@ struct Box {
     }
     void add(const Box& b) { add(b.lo), add(b.hi); }
 };
+
+// spread += weight e e^T (xx, yy, zz, xy, xz, yz).
+void addOuter(double* spread, const Vec3d& e, double weight) {
+    spread[0] += weight * e.x * e.x, spread[1] += weight * e.y * e.y;
+    spread[2] += weight * e.z * e.z, spread[3] += weight * e.x * e.y;
+    spread[4] += weight * e.x * e.z, spread[5] += weight * e.y * e.z;
+}
 
 class Builder {
 public:
@@ -63,16 +74,24 @@ private:
         for (uint32_t corner : mesh_.patches[patch])
             box.add(mesh_.positions[corner]);
         boxes_[index] = box;
+        node.boxLo = box.lo, node.boxHi = box.hi;
         node.center = (box.lo + box.hi) * 0.5;
         node.radius = 0.5 * length(box.hi - box.lo);
         node.centroid = mesh_.centroids[patch];
         node.area = mesh_.areas[patch];
+        // A uniform triangle's covariance: (1 / 12) sum over its corners of e e^T, e the corner
+        // less the centroid.
+        for (uint32_t corner : mesh_.patches[patch]) {
+            const Vec3d e = mesh_.positions[corner] - node.centroid;
+            addOuter(node.spread, e, 1.0 / 12);
+        }
         node.coneAxis = mesh_.normals[patch];
         node.coneCos = 1;
         node.slabLo = INFINITY, node.slabHi = -INFINITY;
         for (uint32_t corner : mesh_.patches[patch]) {
             const double offset = dot(node.coneAxis, mesh_.positions[corner]);
-            node.slabLo = std::min(node.slabLo, offset), node.slabHi = std::max(node.slabHi, offset);
+            node.slabLo = std::min(node.slabLo, offset),
+            node.slabHi = std::max(node.slabHi, offset);
         }
     }
 
@@ -88,7 +107,7 @@ private:
             for (uint32_t corner : mesh_.patches[patch])
                 corners.add(mesh_.positions[corner]);
         }
-        const double scale = 0.5 * length(corners.hi - corners.lo);
+        const double scale = kNormalWeight * length(corners.hi - corners.lo);
         int axis = 0;
         double widest = -1;
         for (int a = 0; a < 6; ++a) {
@@ -112,11 +131,18 @@ private:
         Box box = boxes_[node.children[0]];
         box.add(boxes_[node.children[1]]);
         boxes_[index] = box;
+        node.boxLo = box.lo, node.boxHi = box.hi;
         node.center = (box.lo + box.hi) * 0.5;
         node.radius = 0.5 * length(box.hi - box.lo);
         node.area = a.area + b.area;
         node.centroid = node.area > 0 ? (a.centroid * a.area + b.centroid * b.area) / node.area
                                       : (a.centroid + b.centroid) * 0.5;
+        for (const ClusterNode* child : {&a, &b}) {
+            const double share = node.area > 0 ? child->area / node.area : 0.5;
+            for (int k = 0; k < 6; ++k)
+                node.spread[k] += share * child->spread[k];
+            addOuter(node.spread, child->centroid - node.centroid, share);
+        }
         // The cone: around the children's area-weighted mean axis, wide enough for both
         // children's cones (each child's half-angle plus the angle between the axes).
         const Vec3d sum = a.coneAxis * a.area + b.coneAxis * b.area;

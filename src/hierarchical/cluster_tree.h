@@ -32,9 +32,13 @@ struct ClusterNode {
     uint32_t first = 0;  // the node's patches are order[first .. first + count)
     uint32_t count = 0;  // 1: a leaf (a patch)
     uint32_t children[2] = {kNoNode, kNoNode};
-    Vec3d center;  // of the bounding sphere (the bounding box's centre), scene units
+    Vec3d boxLo, boxHi;  // bounding box of the patches' corners, scene units
+    Vec3d center;  // of the bounding sphere (the bounding box's centre)
     double radius = 0;  // of the bounding sphere: half the box's diagonal
     Vec3d centroid;  // area-weighted centroid of the patches
+    // Covariance of an area-uniform point of the node about `centroid` (xx, yy, zz, xy, xz, yz),
+    // scene units squared: the second-order term of the far-field coupling.
+    double spread[6] = {0, 0, 0, 0, 0, 0};
     double area = 0;  // total patch area, scene units squared
     Vec3d coneAxis;  // unit axis of the cone holding every patch normal
     // cos of the cone's half-angle; -1 when the normals do not fit in a half-space cone

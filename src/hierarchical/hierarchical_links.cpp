@@ -29,6 +29,21 @@ struct FarRecord {
     float direction[3];  // receiver -> source
 };
 
+// The mean of cos_x cos_y / r^2 over area-uniform points x of R and y of S, relative to its
+// value 1 / d^2 at the centroids, to second order in the offsets s = (y - x) - d for patches
+// facing each other along u: 1 + (5 u.Cu - 2 tr C) / d^2, C the sum of the two nodes'
+// covariances (the 1 / r^4 and cosine terms of (n.w)^2 / |w|^4, w = d + s, averaged with
+// E[s] = 0). Parallel plates 4 apart, a unit and a 0.5 square: 1 - 2 (1/6 + 1/24) / 16.
+double secondOrder(const ClusterNode& r, const ClusterNode& s, const Vec3d& u, double d) {
+    double c[6];
+    for (int k = 0; k < 6; ++k)
+        c[k] = r.spread[k] + s.spread[k];
+    const double trace = c[0] + c[1] + c[2];
+    const double along = u.x * u.x * c[0] + u.y * u.y * c[1] + u.z * u.z * c[2] +
+        2 * (u.x * u.y * c[3] + u.x * u.z * c[4] + u.y * u.z * c[5]);
+    return std::clamp(1 + (5 * along - 2 * trace) / (d * d), 0.5, 1.5);
+}
+
 struct Pair {
     uint32_t r, s;
 };
@@ -85,9 +100,9 @@ public:
             next.push_back({a, b});
             return;
         }
-        const LinkDecision decision = chooseLink(
-            r, s, {source_[pair.r], yield_[pair.r], source_[pair.s], yield_[pair.s]}, epsilon_,
-            hierarchy_.maxAperture);
+        const LinkDecision decision =
+            chooseLink(r, s, {source_[pair.r], yield_[pair.r], source_[pair.s], yield_[pair.s]},
+                       epsilon_, hierarchy_.maxAperture);
         LinkChoice choice = decision.choice;
         if (choice == LinkChoice::None) {
             ++local.stats.facingAway;
@@ -142,10 +157,9 @@ private:
         const Vec3d between = s.centroid - r.centroid;
         const double distance = length(between);
         const Vec3d u = between / distance;
-        FarRecord record{pair.r,
-                         pair.s,
-                         float(double(open) / count / (M_PI * distance * distance)),
-                         {float(u.x), float(u.y), float(u.z)}};
+        const double coupling =
+            double(open) / count * secondOrder(r, s, u, distance) / (M_PI * distance * distance);
+        FarRecord record{pair.r, pair.s, float(coupling), {float(u.x), float(u.y), float(u.z)}};
         local.far.push_back(record);
         return true;
     }

@@ -8,10 +8,11 @@
 //   PairEvaluator: the view-factor kernel and its stratified shadow segments), stored as a
 //   sparse matrix of F_ij over the patches;
 // - far: a pair of nodes (R, S), each of whose patches faces every point of the other, with
-//   the far-field coupling K = V / (pi r^2): r the distance between their area-weighted
+//   the far-field coupling K = V c / (pi r^2): r the distance between their area-weighted
 //   centroids, u the unit direction from R to S, V the share of shadow segments between
-//   area-sampled points of R and S that get through. The irradiance a patch l of R receives
-//   from S is then
+//   area-sampled points of R and S that get through, c the second-order correction for the
+//   nodes' extent (their covariances, hierarchical_links.cpp). The irradiance a patch l of R
+//   receives from S is then
 //       G_l = (n_l . u) K (-u . P_S),   P_S = sum_{j in S} A_j n_j B_j,
 //   exact for small nodes far apart (the point-to-point form factor with each patch's own
 //   cosines: Cohen and Wallace 1993, "Radiosity and Realistic Image Synthesis", eq. 4.17), and
@@ -47,7 +48,7 @@ namespace daisy {
 
 struct HierarchySettings {
     // epsilon relative to the scene's visible power (link_oracle.h); smaller: more links.
-    double linkTolerance = 2e-6;
+    double linkTolerance = 1e-6;
     int farRays = 8;  // shadow segments per far link
     // Largest rho / d of a far link (sphere radii over centre distance): bounds each patch's
     // relative error of the far-field coupling whatever the link's power.

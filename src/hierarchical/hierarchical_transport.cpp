@@ -4,17 +4,20 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "core/check.h"
 #include "core/strings.h"
 #include "radiosity/ray_pair_evaluator.h"
 #include "raycast/ray_caster.h"
+#include "shared/rng.h"
 
 namespace daisy {
 
 HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree tree,
-                                             HierarchicalLinks links)
+                                             HierarchicalLinks links,
+                                             const std::vector<uint8_t>& enclosed)
     : tree_(std::move(tree)), links_(std::move(links)), normals_(mesh.normals), areas_(mesh.areas) {
     const uint32_t n = links_.near.size;
     farScale_.assign(n, 1.0);
@@ -25,13 +28,14 @@ HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree 
     const std::vector<double> nearSums = daisy::rowSums(links_.near);
     for (uint32_t i = 0; i < n; ++i) {
         const double sum = rowSums_[i] + nearSums[i];
-        if (sum > 1) {
+        const bool closed = !enclosed.empty() && enclosed[i];
+        if (sum > 1 || (closed && sum > 0)) {
             const double scale = 1 / sum;
             farScale_[i] = scale;
             for (uint64_t e = links_.near.rowOffsets[i]; e < links_.near.rowOffsets[i + 1]; ++e)
                 links_.near.values[e] = static_cast<float>(links_.near.values[e] * scale);
         }
-        rowSums_[i] = std::min(sum, 1.0);
+        rowSums_[i] = sum > 1 || (closed && sum > 0) ? 1.0 : sum;
     }
 }
 
@@ -182,6 +186,78 @@ Expected<MatrixComparison> HierarchicalTransport::compare(const Transport& other
                         " transport entry by entry: compare the solutions patch by patch")};
 }
 
+namespace {
+
+// Per patch of a closed scene: 1 when every one of kEnclosureRays cosine-distributed rays from
+// area-uniform points of it lands on the front of a patch, none of them a face lying on it (closer
+// than 1% of its size and facing it): closed around it by surfaces that face it, and not partly
+// buried (a patch under a block has no well-defined row sum; the session's exposed parts handle
+// it). One hash per ray keeps it independent of the thread count.
+std::vector<uint8_t> enclosedPatches(const PatchMesh& mesh, const RayCaster& caster,
+                                     uint32_t seed) {
+    const std::size_t n = mesh.patchCount();
+
+    std::vector<uint8_t> enclosed(n, 0);
+    std::atomic<bool> escaped{false};
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, n, 64),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+            std::vector<Ray> rays(kEnclosureRays);
+            std::vector<uint32_t> hits(kEnclosureRays);
+            for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                const Vec3d normal = mesh.normals[i];
+                const Vec3d helper = std::abs(normal.x) < 0.9 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0};
+                const Vec3d t = normalize(cross(normal, helper));
+                const Vec3d b = cross(normal, t);
+                const auto& c = mesh.patches[i];
+                for (int k = 0; k < kEnclosureRays; ++k) {
+                    const uint32_t h =
+                        shared::streamSeed(shared::patchSeed(uint32_t(i), seed), uint32_t(k));
+                    const double su = std::sqrt(double(shared::hashToUnitFloat(0, h)));
+                    const double v = shared::hashToUnitFloat(1, h);
+                    const Vec3d p = mesh.positions[c[0]] * (1 - su) +
+                        mesh.positions[c[1]] * (su * (1 - v)) + mesh.positions[c[2]] * (su * v);
+                    // Cosine-distributed direction (Malley's method).
+                    const double r =
+                        std::sqrt(double((k + shared::hashToUnitFloat(2, h)) / kEnclosureRays));
+                    const double phi = 2 * M_PI * shared::hashToUnitFloat(3, h);
+                    const Vec3d d = t * (r * std::cos(phi)) + b * (r * std::sin(phi)) +
+                        normal * std::sqrt(std::max(0.0, 1 - r * r));
+                    rays[k] = {{float(p.x), float(p.y), float(p.z)},
+                               {float(d.x), float(d.y), float(d.z)}};
+                }
+                caster.closestHits(rays, hits);
+                // The distance to each hit, from the hit patch's plane.
+                const double contact = 0.01 * std::sqrt(mesh.areas[i]);
+                bool closed = true;
+                for (int k = 0; k < kEnclosureRays && closed; ++k) {
+                    if (hits[k] == kNoPatch) {
+                        closed = false;
+                        escaped = true;
+                        break;
+                    }
+                    const Vec3d o{rays[k].origin[0], rays[k].origin[1], rays[k].origin[2]};
+                    const Vec3d d{rays[k].direction[0], rays[k].direction[1], rays[k].direction[2]};
+                    const Vec3d& m = mesh.normals[hits[k]];
+                    const double distance =
+                        dot(m, mesh.positions[mesh.patches[hits[k]][0]] - o) / dot(m, d);
+                    // A back face returns no light; a face lying on this one
+                    // (facing it, closer than 1% of its size) buries it.
+                    const bool buried =
+                        std::abs(distance) < contact && dot(m, mesh.normals[i]) < -0.99;
+                    closed = dot(m, d) < 0 && !buried;
+                }
+                enclosed[i] = closed;
+            }
+        });
+    // Only a closed scene (no ray escaped from any patch) says its rows sum to 1: a patch that
+    // sees a small opening can send all of a few rays past it.
+    if (escaped) std::fill(enclosed.begin(), enclosed.end(), 0);
+    return enclosed;
+}
+
+}  // namespace
+
 HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengthCount) {
     // Per patch, as measured (docs/hierarchical.md): about 500 near factors and 250 far links.
     constexpr uint64_t kNearPerPatch = 500, kFarPerPatch = 250;
@@ -218,8 +294,10 @@ Expected<std::shared_ptr<const HierarchicalTransport>> buildHierarchicalTranspor
         auto links = buildHierarchicalLinks(mesh, tree, linkImportance(system), hierarchy, settings,
                                             *evaluator, **caster);
         if (!links) return links.error();
+        const std::vector<uint8_t> enclosed =
+            enclosedPatches(mesh, **caster, static_cast<uint32_t>(settings.seed));
         return std::make_shared<const HierarchicalTransport>(mesh, std::move(tree),
-                                                             std::move(*links));
+                                                             std::move(*links), enclosed);
     });
 }
 

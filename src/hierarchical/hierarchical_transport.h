@@ -9,8 +9,12 @@
 //         summed into parents);
 //   link  J_R = sum over R's far links (S, K, u) of K (-u . P_S) u;
 //   push  J of every node added into its children's, and G_l += n_l . J_l at each patch l.
-// Rows whose factors sum past 1 (rounding of the far field) are scaled to 1, far part included,
-// as the matrix path caps F's rows (radiosity/sparse_matrix.h, capRowSums).
+// Row sums: in a closed scene (no patch's kEnclosureRays cosine-distributed rays escape), a
+// patch whose rays all land on the front of other patches is enclosed, and its factors must sum
+// to 1 (every ray leaving it lands on a patch): its row is scaled to exactly 1, far part included,
+// which removes the far field's and the hidden links' share of error from the sum (the white
+// furnace then holds exactly). Other rows whose factors sum past 1 are scaled to 1, as the matrix
+// path caps F's rows (capRowSums).
 //
 // The patches stay the radiosity patches: every front end (vertex radiance, the final gather,
 // the viewer) works on them unchanged; row(i) gives the near links, the patches close enough
@@ -27,9 +31,13 @@
 
 namespace daisy {
 
+inline constexpr int kEnclosureRays = 32;
+
 class HierarchicalTransport final : public Transport {
 public:
-    HierarchicalTransport(const PatchMesh& mesh, ClusterTree tree, HierarchicalLinks links);
+    // enclosed: per patch, 1 when its row must sum to 1 (empty: no patch known to be).
+    HierarchicalTransport(const PatchMesh& mesh, ClusterTree tree, HierarchicalLinks links,
+                          const std::vector<uint8_t>& enclosed = {});
 
     const char* kind() const override { return "hierarchical"; }
     uint32_t patchCount() const override { return links_.near.size; }

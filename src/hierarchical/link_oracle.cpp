@@ -39,7 +39,7 @@ constexpr double kFacingMargin = 1e-6;
 
 // Whether every normal in the cone of `node` faces every direction within `spread` (radians) of
 // the unit direction u (+1), none does (-1), or some do (0).
-int facing(const ClusterNode& node, const Vec3d& u, double spread) {
+int facingCone(const ClusterNode& node, const Vec3d& u, double spread) {
     if (node.coneCos <= -1) return 0;
     const double half = std::acos(std::clamp(node.coneCos, -1.0, 1.0)) + spread;
     const double axis = std::acos(std::clamp(dot(node.coneAxis, u), -1.0, 1.0));
@@ -48,23 +48,39 @@ int facing(const ClusterNode& node, const Vec3d& u, double spread) {
     return 0;
 }
 
-// True when R is planar and every point of S lies behind R's slab or within it: every cosine
-// on R's side is <= 0 (or, within the slab's tilt of at most 4.5e-5 radians, all but 0), so the
-// two exchange nothing: coplanar parts of a wall, a wall and its own back faces. The matrix
-// path treats coplanar clusters the same way (radiosity/patch_clusters.h).
-bool behindPlane(const ClusterNode& r, const ClusterNode& s) {
-    if (!r.isPlanar()) return false;
-    const double tolerance = 1e-7 * (r.radius + s.radius);
-    const double along = dot(r.coneAxis, s.coneAxis);
-    double farthest;  // the largest offset of S's corners along R's axis
-    if (s.isPlanar() && along >= 1 - 1e-9) {
-        farthest = s.slabHi + (s.slabHi - s.slabLo);  // the axes differ by the tilt at most
-    } else if (s.isPlanar() && along <= -1 + 1e-9) {
-        farthest = -s.slabLo + (s.slabHi - s.slabLo);
-    } else {
-        farthest = dot(r.coneAxis, s.center) + s.radius;
+// The range of n . x over the corners of node `s` (n a unit vector): exact from a planar node's
+// slab when n is its axis (either way round), else from its bounding box.
+std::pair<double, double> extentAlong(const ClusterNode& s, const Vec3d& n) {
+    const double along = dot(n, s.coneAxis);
+    const double thickness = s.slabHi - s.slabLo;  // also bounds the tilt's effect
+    if (s.isPlanar() && along >= 1 - 1e-9) return {s.slabLo - thickness, s.slabHi + thickness};
+    if (s.isPlanar() && along <= -1 + 1e-9) return {-s.slabHi - thickness, -s.slabLo + thickness};
+    const Vec3d mid = (s.boxLo + s.boxHi) * 0.5, half = (s.boxHi - s.boxLo) * 0.5;
+    const double c = dot(n, mid);
+    const double r = std::abs(n.x) * half.x + std::abs(n.y) * half.y + std::abs(n.z) * half.z;
+    return {c - r, c + r};
+}
+
+// Whether R's patches face all of S (+1: S lies in front of every patch's plane, so every
+// cosine on R's side is >= 0), none of it (-1), or some (0). A planar R (isPlanar) is decided
+// by S's extent along its normal: in front of the slab, or behind it or within it (within a slab
+// tilted by at most 4.5e-5 radians, the cosines are all but 0: coplanar parts of a wall, a wall
+// and its own back faces; the matrix path treats coplanar clusters alike,
+// radiosity/patch_clusters.h). Otherwise by R's normal cone against the directions to S's
+// bounding sphere.
+int facing(const ClusterNode& r, const ClusterNode& s) {
+    if (r.isPlanar()) {
+        const double tolerance = 1e-7 * (r.radius + s.radius);
+        const auto [lo, hi] = extentAlong(s, r.coneAxis);
+        if (lo >= r.slabHi - tolerance) return 1;
+        if (hi <= r.slabHi + tolerance) return -1;
+        return 0;
     }
-    return farthest <= r.slabHi + tolerance;
+    const Vec3d between = s.center - r.center;
+    const double d = length(between);
+    const double rho = r.radius + s.radius;
+    if (!(d > rho)) return 0;
+    return facingCone(r, between / d, std::asin(std::min(1.0, rho / d)));
 }
 
 }  // namespace
@@ -78,31 +94,22 @@ LinkChoice splitChoice(const ClusterNode& r, const ClusterNode& s) {
 LinkDecision chooseLink(const ClusterNode& r, const ClusterNode& s, const LinkWeights& weights,
                         double epsilon, double maxAperture) {
     LinkDecision decision;
-    if (behindPlane(r, s) || behindPlane(s, r)) {
+    const int rFaces = facing(r, s), sFaces = facing(s, r);
+    if (rFaces < 0 || sFaces < 0) {
         decision.choice = LinkChoice::None;
         return decision;
     }
-    const Vec3d between = s.center - r.center;
-    const double d = length(between);
+    const double d = length(s.center - r.center);
     const double rho = r.radius + s.radius;
-    if (d > rho) {
-        const Vec3d u = between / d;
-        const double spread = std::asin(std::min(1.0, rho / d));
-        const int rFaces = facing(r, u, spread), sFaces = facing(s, -u, spread);
-        if (rFaces < 0 || sFaces < 0) {
-            decision.choice = LinkChoice::None;
+    if (rFaces > 0 && sFaces > 0 && d > rho) {
+        const double gap = d - rho;
+        const double coupling = std::min({r.area, s.area, r.area * s.area / (M_PI * gap * gap)});
+        decision.power =
+            coupling * (weights.sourceS * weights.yieldR + weights.sourceR * weights.yieldS);
+        decision.error = decision.power * rho / d;
+        if (rho <= maxAperture * d && decision.error <= epsilon) {
+            decision.choice = LinkChoice::Far;
             return decision;
-        }
-        if (rFaces > 0 && sFaces > 0) {
-            const double gap = d - rho;
-            const double coupling = std::min({r.area, s.area, r.area * s.area / (M_PI * gap * gap)});
-            decision.power =
-                coupling * (weights.sourceS * weights.yieldR + weights.sourceR * weights.yieldS);
-            decision.error = decision.power * rho / d;
-            if (rho <= maxAperture * d && decision.error <= epsilon) {
-                decision.choice = LinkChoice::Far;
-                return decision;
-            }
         }
     }
     decision.choice = splitChoice(r, s);

@@ -1,0 +1,272 @@
+// The hierarchical transport (hierarchical/hierarchical_transport.h) against oracles: closed-form
+// factors (Howell C-11), the matrix path on a scene small enough for both, the white and the
+// fluorescent furnace, reciprocity per link, capped row sums and the solvers.
+#include "hierarchical/hierarchical_transport.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "pipeline/session.h"
+#include "radiosity/solver_test_util.h"
+#include "test_util.h"
+#include "verify/closed_forms.h"
+#include "verify/scenes.h"
+
+namespace daisy {
+namespace {
+
+using solvertest::diagonalOperator;
+using solvertest::makeSystem;
+using solvertest::matrixOperator;
+
+// A grey system over `mesh` (m = 1): reflectance rho, emission e on every patch.
+RadiositySystem greySystem(const PatchMesh& mesh, double rho, double e) {
+    RadiositySystem system = makeSystem(uint32_t(mesh.patchCount()), 1, {diagonalOperator({rho})});
+    system.wavelengthsNm = {555};
+    system.areas = mesh.areas;
+    std::fill(system.emission.begin(), system.emission.end(), e);
+    return system;
+}
+
+FormFactorSettings quietSettings() {
+    FormFactorSettings settings;
+    settings.progress = false;
+    return settings;
+}
+
+std::shared_ptr<const HierarchicalTransport> build(const PatchMesh& mesh,
+                                                   const RadiositySystem& system,
+                                                   HierarchySettings hierarchy = {}) {
+    auto built = buildHierarchicalTransport(mesh, system, hierarchy, quietSettings());
+    EXPECT_TRUE(built.ok()) << (built.ok() ? "" : built.error().message);
+    return built.ok() ? *built : nullptr;
+}
+
+// The area-weighted factor from patches [a0, a1) to [b0, b1) through a gather of B = 1 on the
+// second range: sum_i A_i G_i / A_A.
+double groupFactor(const PatchMesh& mesh, const Transport& transport, uint32_t a0, uint32_t a1,
+                   uint32_t b0, uint32_t b1) {
+    std::vector<double> b(mesh.patchCount(), 0.0), g(mesh.patchCount());
+    std::fill(b.begin() + b0, b.begin() + b1, 1.0);
+    transport.gather(b, 1, g);
+    double flux = 0, area = 0;
+    for (uint32_t i = a0; i < a1; ++i)
+        flux += mesh.areas[i] * g[i], area += mesh.areas[i];
+    return flux / area;
+}
+
+// Two unit squares 1 apart, 16 x 16 quads each (1,024 patches): the far field gives Howell C-11
+// to its accuracy (the point-to-point coupling misses the second-order term of the nodes'
+// extent, which the oracle's first-order bound keeps under 0.5% here), and the links are far
+// fewer than the pairs.
+TEST(HierarchicalTransport, ParallelSquaresFactorIsHowellC11) {
+    const PatchMesh mesh = verify::patchesOf(verify::parallelSquares(16, 1));
+    const RadiositySystem system = greySystem(mesh, 0.5, 1);
+    const auto transport = build(mesh, system);
+    ASSERT_TRUE(transport);
+    EXPECT_EQ(transport->checkStructure(), "");
+    const uint32_t half = uint32_t(mesh.patchCount() / 2);
+    EXPECT_NEAR(groupFactor(mesh, *transport, 0, half, half, 2 * half), verify::kHowellC11,
+                5e-3 * verify::kHowellC11);
+    EXPECT_NEAR(groupFactor(mesh, *transport, half, 2 * half, 0, half), verify::kHowellC11,
+                5e-3 * verify::kHowellC11);
+    const LinkStats& stats = transport->links().stats;
+    EXPECT_GT(stats.farLinks, 0u);
+    EXPECT_LT(stats.nearEntries + 2 * stats.farLinks, uint64_t(half) * half);
+}
+
+// A 0.5 m square 4 m above a unit square, emitting, as 2 triangles or as a 32 x 32 grid of
+// 2,048: the cluster of small coplanar squares transports what the one square does, to the
+// oracle's bound (within 0.5%), and both are the point-to-point factor A_s / (pi d^2) less the
+// second-order term of the squares' extent (2 E[s^2] / d^2 = 2.6%, s the offsets, parallel
+// plates: 1 / 6 + 1 / 24 over 16), to 0.5%.
+TEST(HierarchicalTransport, AClusterOfSmallSquaresTransportsWhatOneSquareDoes) {
+    auto scene = [](int n) {
+        TriangleMesh mesh;
+        verify::addGrid(mesh, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 1, 1);  // receiver, faces +z
+        verify::addGrid(mesh, {0.25, 0.75, 4}, {0.5, 0, 0}, {0, -0.5, 0}, n, n);  // faces -z
+        return verify::patchesOf(mesh);
+    };
+    double received[2];
+    for (int k = 0; k < 2; ++k) {
+        const PatchMesh mesh = scene(k == 0 ? 1 : 32);
+        RadiositySystem system = greySystem(mesh, 0.5, 1);
+        std::fill_n(system.emission.begin(), 2, 0.0);  // only the small square emits
+        const auto transport = build(mesh, system);
+        ASSERT_TRUE(transport);
+        received[k] = groupFactor(mesh, *transport, 0, 2, 2, uint32_t(mesh.patchCount()));
+    }
+    const double pointToPoint = 0.25 / (M_PI * 16);
+    const double expected = pointToPoint * (1 - 2 * (1.0 / 6 + 1.0 / 24) / 16);
+    EXPECT_NEAR(received[1], received[0], 5e-3 * received[0]);
+    EXPECT_NEAR(received[0], expected, 5e-3 * expected);
+}
+
+// A closed room (no ray escapes): every row is scaled to exactly 1, so the white furnace
+// B = E / (1 - rho) holds to the solver's tolerance, and so does the fluorescent furnace
+// B = (I - M)^-1 E (solver_test.cpp's oracle).
+TEST(HierarchicalTransport, WhiteAndFluorescentFurnacesHold) {
+    const PatchMesh mesh = verify::patchesOf(verify::unitCubeRoom(8));
+    const RadiositySystem white = greySystem(mesh, 0.5, 1);
+    const auto transport = build(mesh, white);
+    ASSERT_TRUE(transport);
+    for (double sum : transport->rowSums())
+        ASSERT_EQ(sum, 1.0);
+    SolverSettings settings;
+    settings.tolerance = 1e-9;
+    auto solved = transport->solve(white, settings);
+    ASSERT_TRUE(solved.ok()) << solved.error().message;
+    for (double b : solved->radiosity)
+        ASSERT_NEAR(b, 2.0, 1e-4);
+
+    RadiositySystem fluorescent =
+        makeSystem(uint32_t(mesh.patchCount()), 3,
+                   {matrixOperator(3, {0.5, 0, 0, 0.3, 0.4, 0, 0.1, 0.2, 0.6})});
+    fluorescent.areas = mesh.areas;
+    for (std::size_t i = 0; i < mesh.patchCount(); ++i)
+        std::copy_n(std::vector<double>{2, 1, 0.5}.data(), 3, fluorescent.emission.data() + 3 * i);
+    const double b0 = 4, b1 = (1 + 0.3 * b0) / 0.6, b2 = (0.5 + 0.1 * b0 + 0.2 * b1) / 0.4;
+    auto glowing = transport->solve(fluorescent, settings);
+    ASSERT_TRUE(glowing.ok()) << glowing.error().message;
+    for (std::size_t i = 0; i < mesh.patchCount(); ++i) {
+        ASSERT_NEAR(glowing->radiosity[3 * i + 0], b0, 1e-4 * b0);
+        ASSERT_NEAR(glowing->radiosity[3 * i + 1], b1, 1e-4 * b1);
+        ASSERT_NEAR(glowing->radiosity[3 * i + 2], b2, 1e-4 * b2);
+    }
+}
+
+// Jacobi and Gauss-Seidel land on the same B; Southwell, which needs F's columns, says why not.
+TEST(HierarchicalTransport, SolversAgreeAndSouthwellIsRefused) {
+    const PatchMesh mesh = verify::patchesOf(verify::parallelSquares(8, 1));
+    RadiositySystem system = greySystem(mesh, 0.7, 0);
+    std::fill_n(system.emission.begin(), 64, 1.0);  // half of one square emits
+    const auto transport = build(mesh, system);
+    ASSERT_TRUE(transport);
+    SolverSettings settings;
+    settings.tolerance = 1e-10;
+    settings.kind = SolverKind::Jacobi;
+    auto jacobi = transport->solve(system, settings);
+    settings.kind = SolverKind::GaussSeidel;
+    auto gaussSeidel = transport->solve(system, settings);
+    ASSERT_TRUE(jacobi.ok() && gaussSeidel.ok());
+    EXPECT_TRUE(jacobi->converged && gaussSeidel->converged);
+    for (std::size_t i = 0; i < jacobi->radiosity.size(); ++i)
+        EXPECT_NEAR(jacobi->radiosity[i], gaussSeidel->radiosity[i], 1e-8);
+    settings.kind = SolverKind::Southwell;
+    auto southwell = transport->solve(system, settings);
+    ASSERT_FALSE(southwell.ok());
+    EXPECT_NE(southwell.error().message.find("southwell"), std::string::npos);
+}
+
+SessionSettings cornellSettings(double maxEdge) {
+    SessionSettings settings;
+    settings.scenePath = test::assetPath("scenes/cornell_box.gltf");
+    settings.backend = "cpu";
+    settings.subdivideMaxEdge = maxEdge;
+    settings.formFactors.progress = false;
+    settings.logStages = false;
+    return settings;
+}
+
+// Per patch: its near factors plus the far half-links of its leaf and of every ancestor (the
+// links whose transport reaches it); {mean, largest}.
+std::pair<double, uint64_t> linksPerPatch(const HierarchicalTransport& transport) {
+    const ClusterTree& tree = transport.tree();
+    const HierarchicalLinks& links = transport.links();
+    std::vector<uint64_t> inherited(tree.nodes.size(), 0);
+    uint64_t most = 0, total = 0;
+    for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
+        const ClusterNode& node = tree.nodes[k];
+        inherited[k] += links.farOffsets[k + 1] - links.farOffsets[k];
+        if (!node.isLeaf()) {
+            for (uint32_t child : node.children)
+                inherited[child] = inherited[k];
+            continue;
+        }
+        const uint64_t count = inherited[k] + links.near.rowLength(tree.order[node.first]);
+        most = std::max(most, count);
+        total += count;
+    }
+    return {double(total) / double(tree.order.size()), most};
+}
+
+// The Cornell box at 3,656 patches: patch radiosity within 1% (RMS over the area, relative to
+// the mean) of the matrix path's, with under half its stored factors; each far link serves both
+// directions with one coupling (reciprocity A_R F_RS = A_S F_SR per link); no row sums past 1.
+TEST(HierarchicalTransport, CornellBoxMatchesTheMatrixPath) {
+    auto session = Session::open(cornellSettings(0.05));
+    ASSERT_TRUE(session.ok()) << session.error().message;
+    ASSERT_TRUE(session->buildFormFactors().ok());
+    const RadiositySystem& system = session->system();
+    const PatchMesh& mesh = session->patches();
+    SolverSettings solver;
+    solver.tolerance = 1e-7;
+    auto matrix = session->transport().solve(system, solver);
+    ASSERT_TRUE(matrix.ok());
+    const auto transport = build(mesh, system);
+    ASSERT_TRUE(transport);
+    auto solved = transport->solve(system, solver);
+    ASSERT_TRUE(solved.ok()) << solved.error().message;
+
+    const std::size_t n = system.patchCount, m = system.wavelengthCount;
+    double sumSq = 0, sum = 0, area = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        double a = 0, b = 0;
+        for (std::size_t k = 0; k < m; ++k) {
+            a += solved->radiosity[i * m + k] * system.binWidthsNm[k];
+            b += matrix->radiosity[i * m + k] * system.binWidthsNm[k];
+        }
+        sumSq += mesh.areas[i] * (a - b) * (a - b);
+        sum += mesh.areas[i] * b;
+        area += mesh.areas[i];
+    }
+    EXPECT_LT(std::sqrt(sumSq / area) / (sum / area), 0.01);
+    EXPECT_LT(transport->stats().entries, session->transport().stats().entries / 2);
+
+    const ClusterTree& tree = transport->tree();
+    const HierarchicalLinks& links = transport->links();
+    uint64_t halves = 0;
+    for (std::size_t r = 0; r < tree.nodes.size(); ++r) {
+        for (uint64_t e = links.farOffsets[r]; e < links.farOffsets[r + 1]; ++e) {
+            const FarLink& link = links.far[e];
+            // The other half, under the source, pointing back with the same coupling.
+            const auto begin = links.far.begin() + links.farOffsets[link.source];
+            const auto end = links.far.begin() + links.farOffsets[link.source + 1];
+            const auto back = std::lower_bound(
+                begin, end, uint32_t(r), [](const FarLink& l, uint32_t s) { return l.source < s; });
+            ASSERT_TRUE(back != end && back->source == r);
+            ASSERT_EQ(back->coupling, link.coupling);
+            for (int a = 0; a < 3; ++a)
+                ASSERT_EQ(back->direction[a], -link.direction[a]);
+            ++halves;
+        }
+    }
+    EXPECT_EQ(halves, 2 * links.stats.farLinks);
+    for (double rowSum : transport->rowSums())
+        ASSERT_LE(rowSum, 1.0 + 1e-3);
+}
+
+// The same box at 920 and 3,656 patches (4x): the links reaching a patch grow far slower than
+// the patches on average (measured 438 -> 931, as n^0.54; an all-pairs row grows as n).
+TEST(HierarchicalTransport, LinksPerPatchGrowFarSlowerThanThePatches) {
+    std::pair<double, uint64_t> counts[2];
+    std::size_t patches[2];
+    for (int k = 0; k < 2; ++k) {
+        auto session = Session::open(cornellSettings(k == 0 ? 0.1 : 0.05));
+        ASSERT_TRUE(session.ok()) << session.error().message;
+        const auto transport = build(session->patches(), session->system());
+        ASSERT_TRUE(transport);
+        counts[k] = linksPerPatch(*transport);
+        patches[k] = session->patches().patchCount();
+    }
+    const double growth = double(patches[1]) / double(patches[0]);
+    EXPECT_LT(counts[1].first / counts[0].first, std::pow(growth, 0.6));
+    // The largest is not yet bounded (measured 622 -> 2,455: as n^0.99, docs/hierarchical.md);
+    // it stays under the matrix path's largest row, which is every patch the row sees.
+    EXPECT_LT(counts[1].second, patches[1]);
+}
+
+}  // namespace
+}  // namespace daisy
