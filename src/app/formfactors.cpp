@@ -66,6 +66,11 @@ void printVerboseStats(const FormFactorStats& s) {
 }
 
 int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
+    if (options.transport != "matrix") {
+        logError(concat("daisy formfactors writes the matrix F, which --transport ",
+                        options.transport, " does not hold: use render, solve or info"));
+        return 2;
+    }
     auto reserved = reserveOutputs({exports.matrixPath, exports.patchesPath});
     if (!reserved) {
         logError(reserved.error().message);

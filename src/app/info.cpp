@@ -6,6 +6,7 @@
 #include "core/log.h"
 #include "core/strings.h"
 #include "geometry/patch_mesh.h"
+#include "hierarchical/hierarchical_transport.h"
 #include "pipeline/backend_registry.h"
 #include "radiosity/matrix_estimate.h"
 
@@ -106,6 +107,16 @@ int runInfo(const CommonOptions& options) {
                     formatNumber(100.0 * matrix.facingFraction, 3), "% of pairs face each other",
                     matrix.sampled ? ", sampled" : "", "), ",
                     formatBytes(static_cast<double>(matrix.matrixBytes)), " as CSR"));
+    const HierarchyEstimate hierarchy =
+        estimateHierarchy(patches, session->system().wavelengthCount);
+    printRow(
+        "hierarchical",
+        concat(formatCount(patches.patchCount() > 0 ? 2 * patches.patchCount() - 1 : 0),
+               " nodes, ~", formatCount(hierarchy.nearEntries), " near factors and ~",
+               formatCount(hierarchy.farLinks), " far links, ",
+               formatBytes(static_cast<double>(hierarchy.bytes)),
+               " (estimate; --transport hierarchical",
+               session->settings().transport == TransportKind::Hierarchical ? ", chosen)" : ")"));
     printRow("backend", backendLine(session->settings()));
     const auto& cacheDirectory = session->settings().cacheDirectory;
     printRow(
@@ -117,7 +128,14 @@ int runInfo(const CommonOptions& options) {
             : concat("no (", options.backend, ", ", options.method, ", L ", options.quadratureLevel,
                      ", K ", options.raysPerPair, ", seed ", options.seed, " not in ",
                      cacheDirectory->string(), ")"));
-    if (matrix.matrixBytes > options.maxMemoryBytes) {
+    if (session->settings().transport == TransportKind::Hierarchical &&
+        hierarchy.bytes > options.maxMemoryBytes) {
+        printRow(
+            "",
+            concat("over --max-memory ", formatBytes(static_cast<double>(options.maxMemoryBytes)),
+                   ": the hierarchical build would be refused; ", session->memoryAdvice()));
+    } else if (session->settings().transport == TransportKind::Matrix &&
+               matrix.matrixBytes > options.maxMemoryBytes) {
         printRow(
             "",
             concat("over --max-memory ", formatBytes(static_cast<double>(options.maxMemoryBytes)),

@@ -317,6 +317,16 @@ const std::map<std::string, Case>& cases() {
              return info(saveGltf(dir, "texture.gltf",
                                   withTexture(lampRoom(), "data:image/png;base64,@@@@")));
          }},
+        {"transport-hierarchical-reference",
+         [](const auto& dir) {
+             return "solve " + saveGltf(dir, "room.gltf", lampRoom()) +
+                 " --transport hierarchical --backend reference --no-cache";
+         }},
+        {"transport-hierarchical-formfactors",
+         [](const auto& dir) {
+             return "formfactors " + saveGltf(dir, "room.gltf", lampRoom()) +
+                 " --transport hierarchical --no-cache -o " + (dir / "F.mtx").string();
+         }},
         {"bench-stress-unwritable-output",
          [](const auto& dir) {
              return "bench --stress --quick -o " + (dir / "missing" / "stress.csv").string();
