@@ -106,13 +106,35 @@ LinkDecision chooseLink(const ClusterNode& r, const ClusterNode& s, const LinkWe
         const double coupling = std::min({r.area, s.area, r.area * s.area / (M_PI * gap * gap)});
         decision.power =
             coupling * (weights.sourceS * weights.yieldR + weights.sourceR * weights.yieldS);
-        decision.error = decision.power * rho / d;
+        // Each side's share of the bound: only splitting a side reduces its share, and a leaf
+        // cannot be split; its share is the patch's own resolution (the first-order term
+        // cancels in the patch's mean and the second-order one is corrected: c in
+        // hierarchical_links.h), so it is not charged unless both sides are leaves.
+        const double errorR = decision.power * r.radius / d;
+        const double errorS = decision.power * s.radius / d;
+        decision.error = (r.isLeaf() ? 0 : errorR) + (s.isLeaf() ? 0 : errorS);
+        if (r.isLeaf() && s.isLeaf()) decision.error = errorR + errorS;
         if (rho <= maxAperture * d && decision.error <= epsilon) {
             decision.choice = LinkChoice::Far;
             return decision;
         }
+        if (rho <= maxAperture * d && !(r.isLeaf() && s.isLeaf())) {
+            // Split the side that carries the larger share.
+            const bool splitR = !r.isLeaf() && (s.isLeaf() || errorR >= errorS);
+            decision.choice = splitR ? LinkChoice::SplitReceiver : LinkChoice::SplitSource;
+            return decision;
+        }
     }
-    decision.choice = splitChoice(r, s);
+    // A side that faces the other only in part is what keeps the pair from a far link: split
+    // it, not the other, else the other would be cut down to its leaves around a receiver that
+    // still faces it in part (every link then lands on the leaves of that side).
+    if (rFaces == 0 && sFaces > 0 && !r.isLeaf()) {
+        decision.choice = LinkChoice::SplitReceiver;
+    } else if (sFaces == 0 && rFaces > 0 && !s.isLeaf()) {
+        decision.choice = LinkChoice::SplitSource;
+    } else {
+        decision.choice = splitChoice(r, s);
+    }
     return decision;
 }
 
@@ -167,6 +189,18 @@ LinkImportance linkImportance(const RadiositySystem& system) {
         yield[p] = std::clamp(yield[p], 0.0, 1.0);
     }
 
+    // The emitters' own light counts only by the share of it that comes back as indirect light
+    // (the mean reflectance, weighed by W): the image's final gather recomputes the direct
+    // light per pixel, so links need not resolve it (left alone, an emitter's links are cut
+    // to single patches everywhere it shines: 1,360 of one ceiling patch's next to the
+    // Cornell box's lamp).
+    double reflected = 0, weight = 0;
+    for (std::size_t k = 0; k < m; ++k) {
+        reflected += (totalArea > 0 ? reflectance[k] / totalArea : 0.0) * worth[k] * widths[k];
+        weight += worth[k] * widths[k];
+    }
+    const double directShare = weight > 0 ? std::min(1.0, reflected / weight) : 1.0;
+
     LinkImportance importance;
     importance.source.resize(n);
     importance.yield.resize(n);
@@ -174,7 +208,8 @@ LinkImportance linkImportance(const RadiositySystem& system) {
         const uint32_t p = system.patchOperator[i];
         double source = 0;
         for (std::size_t k = 0; k < m; ++k)
-            source += (system.emission[i * m + k] + bounce[p][k]) * worth[k] * widths[k];
+            source +=
+                (directShare * system.emission[i * m + k] + bounce[p][k]) * worth[k] * widths[k];
         importance.source[i] = source;
         importance.yield[i] = yield[p];
         importance.totalPower += system.areas[i] * source;

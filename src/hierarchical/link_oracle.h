@@ -14,8 +14,11 @@
 // The light before the solve: the emission plus one bounce of an ambient irradiance (Cohen,
 // Chen, Wallace and Greenberg 1988, "A progressive refinement approach to fast radiosity image
 // generation", SIGGRAPH, section 4.2): Gbar_k = (sum_i A_i E_ik / sum_i A_i) / (1 - rhobar_k),
-// rhobar the area-weighted mean reflectance, capped at 0.95. Then
-//     source_j = sum_k (E_jk + (M_j Gbar)_k) W_k w_k        (visible-weighted exitance, W m^-2)
+// rhobar the area-weighted mean reflectance, capped at 0.95. The emission counts only by the
+// share that comes back as indirect light, r = sum_k rhobar_k W_k w_k / sum_k W_k w_k: the
+// image's final gather recomputes the emitters' direct light per pixel, so the links carry the
+// smooth indirect light and need not resolve the direct light patch by patch. Then
+//     source_j = sum_k (r E_jk + (M_j Gbar)_k) W_k w_k      (visible-weighted exitance, W m^-2)
 //     yield_j  = max_k (sum_o M_j[o][k] W_o w_o) / (W_k w_k), clamped to [0, 1].
 #include <vector>
 
