@@ -63,7 +63,9 @@ TEST(TransportCli, BackendsWithoutLinksAndTheMatrixExportAreRefused) {
     const RunResult exported = runDaisy("formfactors " + kCornellBox +
                                         " --transport hierarchical --no-cache -o " + matrix);
     EXPECT_EQ(exported.status, 2) << exported.output;
-    EXPECT_NE(exported.output.find("writes the matrix F, which --transport hierarchical does not hold"), std::string::npos)
+    EXPECT_NE(
+        exported.output.find("writes the matrix F, which --transport hierarchical does not hold"),
+        std::string::npos)
         << exported.output;
     EXPECT_FALSE(std::filesystem::exists(matrix));
 }
