@@ -72,8 +72,8 @@ int facing(const ClusterNode& r, const ClusterNode& s) {
     if (r.isPlanar()) {
         const double tolerance = 1e-7 * (r.radius + s.radius);
         const auto [lo, hi] = extentAlong(s, r.coneAxis);
+        if (hi <= r.slabHi + tolerance) return -1;  // behind or within: coplanar first
         if (lo >= r.slabHi - tolerance) return 1;
-        if (hi <= r.slabHi + tolerance) return -1;
         return 0;
     }
     const Vec3d between = s.center - r.center;

@@ -1,0 +1,94 @@
+// The oracle's geometric decision (hierarchical/link_oracle.h) on hand-made node pairs whose
+// bound is known in closed form, and the importance weights on a two-sample system.
+#include "hierarchical/link_oracle.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "radiosity/solver_test_util.h"
+
+namespace daisy {
+namespace {
+
+// A planar node of `count` patches: a square of side `side` at height z facing +z (up) or -z,
+// its corners' box, sphere and slab.
+ClusterNode square(double z, double side, bool up, uint32_t count = 2) {
+    ClusterNode node;
+    node.count = count;
+    node.boxLo = {0, 0, z};
+    node.boxHi = {side, side, z};
+    node.center = node.centroid = {side / 2, side / 2, z};
+    node.radius = side / std::sqrt(2.0);
+    node.area = side * side;
+    node.coneAxis = {0, 0, up ? 1.0 : -1.0};
+    node.coneCos = 1;
+    node.slabLo = node.slabHi = up ? z : -z;
+    return node;
+}
+
+// Two unit squares 10 apart, facing: Phi = C (s_S y_R + s_R y_S) with C = A_R A_S / (pi gap^2),
+// gap = 10 - 2 / sqrt(2); the bound is Phi rho / d. A far link exactly when the bound is at
+// most epsilon; above it, the side with the larger share is split (equal shares: R).
+TEST(LinkOracle, AFarLinkExactlyWhenTheBoundIsUnderEpsilon) {
+    const ClusterNode r = square(0, 1, true), s = square(10, 1, false);
+    const LinkWeights weights{2, 0.5, 3, 0.25};
+    const double rho = 2 / std::sqrt(2.0), gap = 10 - rho;
+    const double power = (3 * 0.5 + 2 * 0.25) / (M_PI * gap * gap);
+    const double bound = power * rho / 10;
+    const LinkDecision at = chooseLink(r, s, weights, bound * (1 + 1e-12), 0.25);
+    EXPECT_EQ(at.choice, LinkChoice::Far);
+    EXPECT_NEAR(at.power, power, 1e-15);
+    EXPECT_NEAR(at.error, bound, 1e-15);
+    EXPECT_EQ(chooseLink(r, s, weights, bound * (1 - 1e-9), 0.25).choice,
+              LinkChoice::SplitReceiver);
+    // The aperture: rho / d = 0.141 passes 0.25 and fails 0.1, whatever epsilon.
+    EXPECT_EQ(chooseLink(r, s, weights, 1e9, 0.1).choice, LinkChoice::SplitReceiver);
+    // Leaves are split never: two leaves over the bound become a near link.
+    const ClusterNode leafR = square(0, 1, true, 1), leafS = square(10, 1, false, 1);
+    EXPECT_EQ(chooseLink(leafR, leafS, weights, bound * 0.5, 0.25).choice, LinkChoice::Near);
+}
+
+// Facing: the upper square turned up (its back to the lower one), or the two in one plane,
+// exchange nothing whatever the bound; a square over a wall standing on its plane faces it.
+TEST(LinkOracle, PairsFacingAwayOrCoplanarExchangeNothing) {
+    const LinkWeights weights{1, 1, 1, 1};
+    EXPECT_EQ(chooseLink(square(0, 1, true), square(10, 1, true), weights, 1e9, 0.25).choice,
+              LinkChoice::None);
+    ClusterNode beside = square(0, 1, true);
+    beside.boxLo.x += 3, beside.boxHi.x += 3, beside.center.x += 3, beside.centroid.x += 3;
+    EXPECT_EQ(chooseLink(square(0, 1, true), beside, weights, 1e9, 0.25).choice, LinkChoice::None);
+    ClusterNode wall;  // x = 20, from z = 0 up to z = 1, facing -x (towards the square)
+    wall.count = 2;
+    wall.boxLo = {20, 0, 0};
+    wall.boxHi = {20, 1, 1};
+    wall.center = wall.centroid = {20, 0.5, 0.5};
+    wall.radius = std::sqrt(0.5);
+    wall.area = 1;
+    wall.coneAxis = {-1, 0, 0};
+    wall.coneCos = 1;
+    wall.slabLo = wall.slabHi = -20;
+    EXPECT_EQ(chooseLink(square(0, 1, true), wall, weights, 1e9, 0.25).choice, LinkChoice::Far);
+}
+
+// Two samples, 550 nm (ybar ~ 1) and 365 nm (ybar ~ 0): a white material's yield is 1 and a
+// black one's 0; UV light is worth nothing without a fluorescent material, and what the
+// fluorescent one makes of it (0.4 of it re-emitted at 550 nm) with one.
+TEST(LinkOracle, ImportanceWeighsUvByTheVisibleLightItCanBecome) {
+    using solvertest::matrixOperator;
+    RadiositySystem system = solvertest::makeSystem(
+        2, 2, {matrixOperator(2, {0.9, 0, 0, 0.9}), matrixOperator(2, {0, 0, 0.4, 0})});
+    system.wavelengthsNm = {365, 550};
+    system.patchOperator = {0, 1};
+    system.emission = {1, 0, 0, 0};  // patch 0 emits UV only
+    const LinkImportance withFluorescence = linkImportance(system);
+    EXPECT_GT(withFluorescence.source[0], 0);
+    EXPECT_NEAR(withFluorescence.yield[1], 1.0, 1e-12);  // all of its UV's worth becomes visible
+    system.operators[1] = matrixOperator(2, {0, 0, 0, 0});
+    const LinkImportance without = linkImportance(system);
+    EXPECT_NEAR(without.source[0], 0, 1e-3 * withFluorescence.source[0]);
+    EXPECT_EQ(without.yield[1], 0);
+}
+
+}  // namespace
+}  // namespace daisy
