@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <iterator>
+#include <mutex>
 #include <vector>
 
 #include "core/log.h"
@@ -81,8 +82,24 @@ Expected<VkInstance> makeInstance(std::span<const char* const> extensions) {
         return Error{concat("cannot create a Vulkan 1.2 instance (", vkResultName(result), ")")};
     }
     // Instance-level loading only: device functions go through the loader's dispatch, which is
-    // right for every device of every context alive in the process.
-    volkLoadInstance(instance);
+    // right for every device of every context alive in the process. volk keeps one table for
+    // the process; what it takes from any instance are the loader's trampolines, valid for every
+    // instance, except that an extension's functions are null when taken from an instance that
+    // did not enable it. So the table is loaded by the first instance and again only by one
+    // that enables the surface extension when the loaded one did not: a headless instance made
+    // later (the backend's probe while a window is open) must not null the window's
+    // vkDestroySurfaceKHR.
+    static std::mutex loadMutex;
+    static bool loaded = false, loadedWithSurface = false;
+    bool withSurface = false;
+    for (const char* name : extensions)
+        withSurface = withSurface || std::strcmp(name, VK_KHR_SURFACE_EXTENSION_NAME) == 0;
+    const std::lock_guard lock(loadMutex);
+    if (!loaded || (withSurface && !loadedWithSurface)) {
+        volkLoadInstance(instance);
+        loaded = true;
+        loadedWithSurface = withSurface;
+    }
     return instance;
 }
 

@@ -417,6 +417,14 @@ TEST(ViewCli, BadOptionsFailBeforeTheViewFactors) {
     }
 }
 
+// Without the disk cache the backend is chosen (and Vulkan probed, headless) while the window
+// is open; the probe's instance used to replace volk's table of instance functions, so the
+// window's vkDestroySurfaceKHR was null at exit (status 139).
+TEST(ViewCli, OpeningWithoutTheCacheExitsCleanly) {
+    const RunResult run = runView(kScene + kSize + " --no-cache --frames 3");
+    EXPECT_EQ(run.status, 0) << run.output;
+}
+
 }  // namespace
 }  // namespace daisy
 #endif
