@@ -11,7 +11,9 @@
 
 #include "core/cancel.h"
 #include "core/timer.h"
+#include "geometry/shared_vec.h"
 #include "shared/rng.h"
+#include "shared/sampling.h"
 
 namespace daisy {
 namespace {
@@ -133,13 +135,12 @@ private:
         local.blocked.assign(count, 0);
         const uint32_t seed = shared::pairSeed(pair.r, pair.s, seed_);
         for (int k = 0; k < count; ++k) {
-            const Vec3d x = samplePoint(r, k, count, shared::streamSeed(seed, 2 * k));
-            const Vec3d y =
+            const shared::vec3 x = samplePoint(r, k, count, shared::streamSeed(seed, 2 * k));
+            const shared::vec3 y =
                 samplePoint(s, (k * 5 + 3) % count, count, shared::streamSeed(seed, 2 * k + 1));
-            const Vec3d a = x + (y - x) * double(kSegmentTrim);
-            const Vec3d b = y + (x - y) * double(kSegmentTrim);
-            local.segments.set(k, float(a.x), float(a.y), float(a.z), float(b.x), float(b.y),
-                               float(b.z));
+            const shared::vec3 a = x + (y - x) * kSegmentTrim;
+            const shared::vec3 b = y + (x - y) * kSegmentTrim;
+            local.segments.set(k, a.x, a.y, a.z, b.x, b.y, b.z);
         }
         rays_.occluded(local.segments, local.blocked);
         local.stats.raysCast += count;
@@ -165,20 +166,19 @@ private:
     }
 
     // Point k of `count` on node `node`, area-uniform: the patch by stratified area, then a
-    // uniform point on it.
-    Vec3d samplePoint(const ClusterNode& node, int k, int count, uint32_t seed) const {
+    // uniform point on it (shared/sampling.h).
+    shared::vec3 samplePoint(const ClusterNode& node, int k, int count, uint32_t seed) const {
         const double lo = prefixArea_[node.first], hi = prefixArea_[node.first + node.count];
         const double t = (k + shared::hashToUnitFloat(0, seed)) / count;
         const double target = lo + (hi - lo) * t;
         auto it = std::upper_bound(prefixArea_.begin() + node.first + 1,
                                    prefixArea_.begin() + node.first + node.count, target);
         const auto index = static_cast<std::size_t>(it - prefixArea_.begin()) - 1;
-        const uint32_t patch = tree_.order[index];
-        const auto& corners = mesh_.patches[patch];
-        const double su = std::sqrt(double(shared::hashToUnitFloat(1, seed)));
-        const double v = shared::hashToUnitFloat(2, seed);
-        return mesh_.positions[corners[0]] * (1 - su) +
-            mesh_.positions[corners[1]] * (su * (1 - v)) + mesh_.positions[corners[2]] * (su * v);
+        const auto& corners = mesh_.patches[tree_.order[index]];
+        return shared::uniformPointOnTriangle(
+            toVec3(mesh_.positions[corners[0]]), toVec3(mesh_.positions[corners[1]]),
+            toVec3(mesh_.positions[corners[2]]),
+            shared::vec2(shared::hashToUnitFloat(1, seed), shared::hashToUnitFloat(2, seed)));
     }
 
     const PatchMesh& mesh_;
@@ -192,7 +192,6 @@ private:
 };
 
 void addStats(LinkStats& into, const LinkStats& from) {
-    into.farLinks += from.farLinks;
     into.candidates += from.candidates;
     into.facingAway += from.facingAway;
     into.hidden += from.hidden;

@@ -9,9 +9,12 @@
 
 #include "core/check.h"
 #include "core/strings.h"
+#include "geometry/shared_vec.h"
+#include "radiosity/matrix_transport.h"
 #include "radiosity/ray_pair_evaluator.h"
 #include "raycast/ray_caster.h"
 #include "shared/rng.h"
+#include "shared/sampling.h"
 
 namespace daisy {
 
@@ -156,11 +159,7 @@ void HierarchicalTransport::gatherFrom(std::span<const uint8_t> sources,
 }
 
 void HierarchicalTransport::row(uint32_t patch, std::vector<TransportEntry>& out) const {
-    const auto columns = links_.near.rowColumns(patch);
-    const auto values = links_.near.rowValues(patch);
-    out.resize(columns.size());
-    for (std::size_t e = 0; e < columns.size(); ++e)
-        out[e] = {columns[e], values[e]};
+    rowEntries(links_.near, patch, out);
 }
 
 Expected<SolverResult> HierarchicalTransport::solve(const RadiositySystem& system,
@@ -205,26 +204,20 @@ std::vector<uint8_t> enclosedPatches(const PatchMesh& mesh, const RayCaster& cas
             std::vector<Ray> rays(kEnclosureRays);
             std::vector<uint32_t> hits(kEnclosureRays);
             for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                const Vec3d normal = mesh.normals[i];
-                const Vec3d helper = std::abs(normal.x) < 0.9 ? Vec3d{1, 0, 0} : Vec3d{0, 1, 0};
-                const Vec3d t = normalize(cross(normal, helper));
-                const Vec3d b = cross(normal, t);
                 const auto& c = mesh.patches[i];
+                const shared::vec3 normal = toVec3(mesh.normals[i]);
                 for (int k = 0; k < kEnclosureRays; ++k) {
                     const uint32_t h =
                         shared::streamSeed(shared::patchSeed(uint32_t(i), seed), uint32_t(k));
-                    const double su = std::sqrt(double(shared::hashToUnitFloat(0, h)));
-                    const double v = shared::hashToUnitFloat(1, h);
-                    const Vec3d p = mesh.positions[c[0]] * (1 - su) +
-                        mesh.positions[c[1]] * (su * (1 - v)) + mesh.positions[c[2]] * (su * v);
-                    // Cosine-distributed direction (Malley's method).
-                    const double r =
-                        std::sqrt(double((k + shared::hashToUnitFloat(2, h)) / kEnclosureRays));
-                    const double phi = 2 * M_PI * shared::hashToUnitFloat(3, h);
-                    const Vec3d d = t * (r * std::cos(phi)) + b * (r * std::sin(phi)) +
-                        normal * std::sqrt(std::max(0.0, 1 - r * r));
-                    rays[k] = {{float(p.x), float(p.y), float(p.z)},
-                               {float(d.x), float(d.y), float(d.z)}};
+                    const shared::vec3 p = shared::uniformPointOnTriangle(
+                        toVec3(mesh.positions[c[0]]), toVec3(mesh.positions[c[1]]),
+                        toVec3(mesh.positions[c[2]]),
+                        shared::vec2(shared::hashToUnitFloat(0, h), shared::hashToUnitFloat(1, h)));
+                    const shared::vec3 d = shared::cosineDirection(
+                        normal,
+                        shared::vec2((k + shared::hashToUnitFloat(2, h)) / kEnclosureRays,
+                                     shared::hashToUnitFloat(3, h)));
+                    rays[k] = {{p.x, p.y, p.z}, {d.x, d.y, d.z}};
                 }
                 caster.closestHits(rays, hits);
                 // The distance to each hit, from the hit patch's plane.
@@ -259,8 +252,9 @@ std::vector<uint8_t> enclosedPatches(const PatchMesh& mesh, const RayCaster& cas
 }  // namespace
 
 HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengthCount) {
-    // Per patch, as measured (docs/hierarchical.md): about 500 near factors and 250 far links.
-    constexpr uint64_t kNearPerPatch = 500, kFarPerPatch = 250;
+    // Per patch, above what was measured (docs/performance.md, "Hierarchical transport"): 138
+    // near factors and 183 far links on the default scene, 283 and 385 on the Blender-style box.
+    constexpr uint64_t kNearPerPatch = 300, kFarPerPatch = 400;
     const uint64_t n = mesh.patchCount();
     HierarchyEstimate estimate;
     estimate.nearEntries = n * kNearPerPatch;

@@ -112,13 +112,14 @@ LinkDecision chooseLink(const ClusterNode& r, const ClusterNode& s, const LinkWe
         // hierarchical_links.h), so it is not charged unless both sides are leaves.
         const double errorR = decision.power * r.radius / d;
         const double errorS = decision.power * s.radius / d;
-        decision.error = (r.isLeaf() ? 0 : errorR) + (s.isLeaf() ? 0 : errorS);
-        if (r.isLeaf() && s.isLeaf()) decision.error = errorR + errorS;
+        const bool leaves = r.isLeaf() && s.isLeaf();
+        decision.error =
+            (leaves || !r.isLeaf() ? errorR : 0) + (leaves || !s.isLeaf() ? errorS : 0);
         if (rho <= maxAperture * d && decision.error <= epsilon) {
             decision.choice = LinkChoice::Far;
             return decision;
         }
-        if (rho <= maxAperture * d && !(r.isLeaf() && s.isLeaf())) {
+        if (rho <= maxAperture * d && !leaves) {
             // Split the side that carries the larger share.
             const bool splitR = !r.isLeaf() && (s.isLeaf() || errorR >= errorS);
             decision.choice = splitR ? LinkChoice::SplitReceiver : LinkChoice::SplitSource;

@@ -11,6 +11,7 @@
 
 #include "core/check.h"
 #include "core/strings.h"
+#include "geometry/shared_vec.h"
 #include "image/camera.h"
 #include "image/emitter_lights.h"
 #include "image/pixel_samples.h"
@@ -25,10 +26,6 @@ namespace daisy {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-shared::vec3 toVec3(const Vec3d& v) {
-    return {float(v.x), float(v.y), float(v.z)};
-}
 
 // What the patches emit themselves (patchCount x m): E without the punctual lights' direct
 // light, which the patches reflect (it stays in the smooth part, per patch) and which is not a

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "core/check.h"
+#include "geometry/shared_vec.h"
 #include "radiosity/hybrid_far_field.h"
 #include "radiosity/patch_exposure.h"
 #include "shared/formfactor.h"
@@ -174,10 +175,6 @@ bool standsOn(const PatchMesh& patches, std::size_t i, std::size_t j) {
         if (lo < hi) return true;
     }
     return false;
-}
-
-shared::vec3 toVec3(const Vec3d& v) {
-    return {float(v.x), float(v.y), float(v.z)};
 }
 
 // The median over patches of the longest edge: the scene's patch size.

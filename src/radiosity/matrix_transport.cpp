@@ -42,12 +42,16 @@ void MatrixTransport::gatherFrom(std::span<const uint8_t> sources,
     }
 }
 
-void MatrixTransport::row(uint32_t patch, std::vector<TransportEntry>& out) const {
-    const auto columns = matrix_.rowColumns(patch);
-    const auto values = matrix_.rowValues(patch);
+void rowEntries(const SparseMatrix& matrix, uint32_t row, std::vector<TransportEntry>& out) {
+    const auto columns = matrix.rowColumns(row);
+    const auto values = matrix.rowValues(row);
     out.resize(columns.size());
     for (std::size_t e = 0; e < columns.size(); ++e)
         out[e] = {columns[e], values[e]};
+}
+
+void MatrixTransport::row(uint32_t patch, std::vector<TransportEntry>& out) const {
+    rowEntries(matrix_, patch, out);
 }
 
 const SparseMatrix& MatrixTransport::transposed() const {

@@ -47,6 +47,10 @@ private:
     mutable std::optional<SparseMatrix> transposed_;
 };
 
+// Row `row` of `matrix` as transport entries (`out` is replaced), columns ascending: the
+// row() of every transport that stores factors in CSR.
+void rowEntries(const SparseMatrix& matrix, uint32_t row, std::vector<TransportEntry>& out);
+
 // A matrix transport of n patches with F_ij = factor(i, j), entries equal to 0 not stored:
 // closed-form systems (the stress suite's exact furnace, tests). O(n^2) calls.
 std::shared_ptr<const Transport> denseTransport(

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "core/check.h"
+#include "geometry/shared_vec.h"
 #include "raycast/ray_caster.h"
 #include "shared/sampling.h"
 
@@ -35,10 +36,6 @@ constexpr std::array<std::array<float, 2>, kPatchQuadraturePoints> kBarycentrics
     }
     return points;
 }();
-
-shared::vec3 toVec3(const Vec3d& v) {
-    return {float(v.x), float(v.y), float(v.z)};
-}
 
 }  // namespace
 
