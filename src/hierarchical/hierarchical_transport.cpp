@@ -23,6 +23,20 @@ HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree 
                                              const std::vector<uint8_t>& enclosed)
     : tree_(std::move(tree)), links_(std::move(links)), normals_(mesh.normals), areas_(mesh.areas) {
     const uint32_t n = links_.near.size;
+    // A planar node's patches share one normal (cluster_tree.h; a node's children are planar
+    // when it is): its far links need the scalar form only. Leaves use the patch's own normal.
+    const std::size_t nodes = tree_.nodes.size();
+    orientation_.assign(nodes, Vec3d{});
+    slot_.assign(nodes + 1, 0);
+    for (std::size_t k = 0; k < nodes; ++k) {
+        const ClusterNode& node = tree_.nodes[k];
+        if (node.isLeaf()) {
+            orientation_[k] = normals_[tree_.order[node.first]];
+        } else if (node.isPlanar()) {
+            orientation_[k] = node.coneAxis;
+        }
+        slot_[k + 1] = slot_[k] + (isPlanar(k) ? 1 : 3);
+    }
     farScale_.assign(n, 1.0);
     // Row sums: G for B = 1 at one wavelength.
     const std::vector<double> ones(n, 1.0);
@@ -66,63 +80,117 @@ std::string HierarchicalTransport::checkStructure() const {
 void HierarchicalTransport::farGather(std::span<const double> radiosity,
                                       std::size_t wavelengthCount,
                                       std::span<double> gathered) const {
-    const std::size_t m = wavelengthCount, w = 3 * m, nodes = tree_.nodes.size();
+    const std::size_t m = wavelengthCount, nodes = tree_.nodes.size();
     DAISY_CHECK(radiosity.size() == normals_.size() * m && gathered.size() == radiosity.size());
     if (nodes == 0) return;
-    std::vector<double> pull(nodes * w), push(nodes * w, 0.0);
-    // Pull: children before parents.
+    // Per node, m values for a planar node (the scalar form) or 3 m (the vector form), at
+    // slot_[k] x m: the same layout for the pull and the push values.
+    const std::size_t size = slot_[nodes] * m;
+    std::unique_lock lock(workspaceMutex_, std::try_to_lock);
+    std::vector<double> ownPull, ownPush;
+    std::vector<double>& pull = lock.owns_lock() ? pullWorkspace_ : ownPull;
+    std::vector<double>& push = lock.owns_lock() ? pushWorkspace_ : ownPush;
+    pull.resize(size);
+    push.assign(size, 0.0);
+    const auto at = [m](std::vector<double>& values, std::size_t slot) {
+        return values.data() + slot * m;
+    };
+    // Pull: children before parents. A planar node holds Q = sum A_j B_j (its P is n Q).
     for (std::size_t k = nodes; k-- > 0;) {
         const ClusterNode& node = tree_.nodes[k];
-        double* p = pull.data() + k * w;
+        double* p = at(pull, slot_[k]);
         if (node.isLeaf()) {
             const uint32_t patch = tree_.order[node.first];
-            const Vec3d a = normals_[patch] * areas_[patch];
+            const double a = areas_[patch];
             const double* b = radiosity.data() + patch * m;
             for (std::size_t c = 0; c < m; ++c)
-                p[c] = a.x * b[c], p[m + c] = a.y * b[c], p[2 * m + c] = a.z * b[c];
-        } else {
-            const double* p0 = pull.data() + node.children[0] * w;
-            const double* p1 = pull.data() + node.children[1] * w;
-            for (std::size_t c = 0; c < w; ++c)
+                p[c] = a * b[c];
+            continue;
+        }
+        const double* p0 = at(pull, slot_[node.children[0]]);
+        const double* p1 = at(pull, slot_[node.children[1]]);
+        if (isPlanar(k)) {
+            for (std::size_t c = 0; c < m; ++c)
                 p[c] = p0[c] + p1[c];
+            continue;
+        }
+        std::fill(p, p + 3 * m, 0.0);
+        for (const uint32_t child : node.children) {
+            const double* q = at(pull, slot_[child]);
+            if (!isPlanar(child)) {
+                for (std::size_t c = 0; c < 3 * m; ++c)
+                    p[c] += q[c];
+                continue;
+            }
+            const Vec3d& n = orientation_[child];
+            for (std::size_t c = 0; c < m; ++c)
+                p[c] += n.x * q[c], p[m + c] += n.y * q[c], p[2 * m + c] += n.z * q[c];
         }
     }
-    // Links: each receiving node sums its half-links in source order.
+    // Links: each receiving node sums its half-links in source order, s = -K (u . P_S) per
+    // wavelength; a planar receiver keeps n_R . J = sum s (u . n_R), another J = sum s u.
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, nodes, 256),
         [&](const tbb::blocked_range<std::size_t>& range) {
             for (std::size_t k = range.begin(); k != range.end(); ++k) {
-                double* j = push.data() + k * w;
+                double* __restrict j = at(push, slot_[k]);
+                const bool planarReceiver = isPlanar(k);
+                const Vec3d& receiverNormal = orientation_[k];
                 for (uint64_t e = links_.farOffsets[k]; e < links_.farOffsets[k + 1]; ++e) {
                     const FarLink& link = links_.far[e];
-                    const double* p = pull.data() + std::size_t(link.source) * w;
-                    const double ux = link.direction[0], uy = link.direction[1],
-                                 uz = link.direction[2], coupling = link.coupling;
-                    for (std::size_t c = 0; c < m; ++c) {
-                        const double s =
-                            -coupling * (ux * p[c] + uy * p[m + c] + uz * p[2 * m + c]);
-                        j[c] += s * ux, j[m + c] += s * uy, j[2 * m + c] += s * uz;
+                    const double* __restrict p = at(pull, slot_[link.source]);
+                    const Vec3d u{link.direction[0], link.direction[1], link.direction[2]};
+                    const double coupling = link.coupling;
+                    if (isPlanar(link.source)) {
+                        const double w = -coupling * dot(u, orientation_[link.source]);
+                        if (planarReceiver) {
+                            const double v = w * dot(u, receiverNormal);
+                            for (std::size_t c = 0; c < m; ++c)
+                                j[c] += v * p[c];
+                        } else {
+                            for (std::size_t c = 0; c < m; ++c) {
+                                const double s = w * p[c];
+                                j[c] += s * u.x, j[m + c] += s * u.y, j[2 * m + c] += s * u.z;
+                            }
+                        }
+                    } else if (planarReceiver) {
+                        const Vec3d a = u * (-coupling * dot(u, receiverNormal));
+                        for (std::size_t c = 0; c < m; ++c)
+                            j[c] += a.x * p[c] + a.y * p[m + c] + a.z * p[2 * m + c];
+                    } else {
+                        for (std::size_t c = 0; c < m; ++c) {
+                            const double s =
+                                -coupling * (u.x * p[c] + u.y * p[m + c] + u.z * p[2 * m + c]);
+                            j[c] += s * u.x, j[m + c] += s * u.y, j[2 * m + c] += s * u.z;
+                        }
                     }
                 }
             }
         });
-    // Push: parents before children; each patch takes its normal's share.
+    // Push: parents before children, a planar child taking n . J of a vector parent; each
+    // patch's leaf holds its irradiance.
     for (std::size_t k = 0; k < nodes; ++k) {
         const ClusterNode& node = tree_.nodes[k];
-        const double* j = push.data() + k * w;
-        if (!node.isLeaf()) {
-            for (uint32_t child : node.children) {
-                double* c = push.data() + std::size_t(child) * w;
-                for (std::size_t e = 0; e < w; ++e)
-                    c[e] += j[e];
-            }
+        const double* j = at(push, slot_[k]);
+        if (node.isLeaf()) {
+            const uint32_t patch = tree_.order[node.first];
+            const double scale = farScale_[patch];
+            double* g = gathered.data() + patch * m;
+            for (std::size_t c = 0; c < m; ++c)
+                g[c] = scale * j[c];
             continue;
         }
-        const uint32_t patch = tree_.order[node.first];
-        const Vec3d normal = normals_[patch] * farScale_[patch];
-        double* g = gathered.data() + patch * m;
-        for (std::size_t c = 0; c < m; ++c)
-            g[c] = normal.x * j[c] + normal.y * j[m + c] + normal.z * j[2 * m + c];
+        for (const uint32_t child : node.children) {
+            double* d = at(push, slot_[child]);
+            if (isPlanar(k) || !isPlanar(child)) {
+                for (std::size_t c = 0; c < (isPlanar(k) ? m : 3 * m); ++c)
+                    d[c] += j[c];
+                continue;
+            }
+            const Vec3d& n = orientation_[child];
+            for (std::size_t c = 0; c < m; ++c)
+                d[c] += n.x * j[c] + n.y * j[m + c] + n.z * j[2 * m + c];
+        }
     }
 }
 

@@ -9,6 +9,9 @@
 //         summed into parents);
 //   link  J_R = sum over R's far links (S, K, u) of K (-u . P_S) u;
 //   push  J of every node added into its children's, and G_l += n_l . J_l at each patch l.
+// A planar node (every patch normal n, cluster_tree.h) holds the scalar form instead, m values:
+// Q = sum A_j B_j (P = n Q) and n . J, which its patches receive unchanged. Most links join
+// two planar nodes and then cost one product a wavelength, like an entry of F.
 // Row sums: in a closed scene (no patch's kEnclosureRays cosine-distributed rays escape), a
 // patch whose rays all land on the front of other patches is enclosed, and its factors must sum
 // to 1 (every ray leaving it lands on a patch): its row is scaled to exactly 1, far part included,
@@ -20,6 +23,7 @@
 // the viewer) works on them unchanged; row(i) gives the near links, the patches close enough
 // to i to need their own factors, which is what the near-field gather asks for.
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "core/expected.h"
@@ -66,7 +70,16 @@ public:
 private:
     ClusterTree tree_;
     HierarchicalLinks links_;
+    // Per node: its normal when it is planar (every leaf is), else zero.
+    bool isPlanar(std::size_t node) const { return orientation_[node] != Vec3d{}; }
+
     std::vector<Vec3d> normals_;  // per patch
+    std::vector<Vec3d> orientation_;  // per node: see isPlanar
+    std::vector<uint64_t> slot_;  // per node: its far-gather values start at slot_ x m; + end
+    // The far gather's pull and push values, reused by one gather at a time (another
+    // concurrent one allocates its own).
+    mutable std::mutex workspaceMutex_;
+    mutable std::vector<double> pullWorkspace_, pushWorkspace_;
     std::vector<double> areas_;  // per patch
     std::vector<double> farScale_;  // per patch: the row cap's scale (1 when not capped)
     std::vector<double> rowSums_;
