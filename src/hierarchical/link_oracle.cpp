@@ -63,16 +63,17 @@ std::pair<double, double> extentAlong(const ClusterNode& s, const Vec3d& n) {
 
 // Whether R's patches face all of S (+1: S lies in front of every patch's plane, so every
 // cosine on R's side is >= 0), none of it (-1), or some (0). A planar R (isPlanar) is decided
-// by S's extent along its normal: in front of the slab, or behind it or within it (within a slab
-// tilted by at most 4.5e-5 radians, the cosines are all but 0: coplanar parts of a wall, a wall
-// and its own back faces; the matrix path treats coplanar clusters alike,
-// radiosity/patch_clusters.h). Otherwise by R's normal cone against the directions to S's
-// bounding sphere.
+// by S's extent along its normal: in front of the slab's highest face, or behind its lowest
+// (a thin slab's coplanar parts included: the cosines are all but 0 there, as for coplanar
+// parts of a wall, or a wall and its own back faces; the matrix path treats coplanar clusters
+// alike, radiosity/patch_clusters.h). Between the two, S faces some of R's faces (a thick slab:
+// the undersides of shelves at several heights). Otherwise by R's normal cone against the
+// directions to S's bounding sphere.
 int facing(const ClusterNode& r, const ClusterNode& s) {
     if (r.isPlanar()) {
         const double tolerance = 1e-7 * (r.radius + s.radius);
         const auto [lo, hi] = extentAlong(s, r.coneAxis);
-        if (hi <= r.slabHi + tolerance) return -1;  // behind or within: coplanar first
+        if (hi <= r.slabLo + tolerance) return -1;  // behind every face, or coplanar: first
         if (lo >= r.slabHi - tolerance) return 1;
         return 0;
     }
