@@ -32,18 +32,29 @@ struct FarRecord {
 };
 
 // The mean of cos_x cos_y / r^2 over area-uniform points x of R and y of S, relative to its
-// value 1 / d^2 at the centroids, to second order in the offsets s = (y - x) - d for patches
-// facing each other along u: 1 + (5 u.Cu - 2 tr C) / d^2, C the sum of the two nodes'
-// covariances (the 1 / r^4 and cosine terms of (n.w)^2 / |w|^4, w = d + s, averaged with
-// E[s] = 0). Parallel plates 4 apart, a unit and a 0.5 square: 1 - 2 (1/6 + 1/24) / 16.
+// value at the centroids, to second order in the offsets s = (y - x) - d u (E[s] = 0, covariance
+// C, the sum of the two nodes'): for f(w) = (a.w)(b.w) / |w|^4, a = n_R, b = -n_S,
+//   E f / f(d u) = 1 + (a.Cb - 4 (beta u.Ca + alpha u.Cb) - 2 alpha beta tr C
+//                       + 12 alpha beta u.Cu) / (alpha beta d^2),
+// alpha = a.u, beta = b.u (the Hessian of f at d u). Facing along u (a = b = u) it is
+// 1 + (5 u.Cu - 2 tr C) / d^2: parallel plates 4 apart, a unit and a 0.5 square, give
+// 1 - 2 (1/6 + 1/24) / 16. A node that is not planar has no one normal: the facing form then.
 double secondOrder(const ClusterNode& r, const ClusterNode& s, const Vec3d& u, double d) {
     double c[6];
     for (int k = 0; k < 6; ++k)
         c[k] = r.spread[k] + s.spread[k];
+    const auto times = [&c](const Vec3d& v) {
+        return Vec3d{c[0] * v.x + c[3] * v.y + c[4] * v.z, c[3] * v.x + c[1] * v.y + c[5] * v.z,
+                     c[4] * v.x + c[5] * v.y + c[2] * v.z};
+    };
     const double trace = c[0] + c[1] + c[2];
-    const double along = u.x * u.x * c[0] + u.y * u.y * c[1] + u.z * u.z * c[2] +
-        2 * (u.x * u.y * c[3] + u.x * u.z * c[4] + u.y * u.z * c[5]);
-    return std::clamp(1 + (5 * along - 2 * trace) / (d * d), 0.5, 1.5);
+    const Vec3d cu = times(u);
+    const Vec3d a = r.isPlanar() ? r.coneAxis : u;
+    const Vec3d b = s.isPlanar() ? s.coneAxis * -1.0 : u;
+    const double alpha = dot(a, u), beta = dot(b, u);
+    const double term = dot(a, times(b)) - 4 * (beta * dot(cu, a) + alpha * dot(cu, b)) -
+        2 * alpha * beta * trace + 12 * alpha * beta * dot(u, cu);
+    return std::clamp(1 + term / (alpha * beta * d * d), 0.5, 1.5);
 }
 
 struct Pair {
@@ -84,6 +95,7 @@ public:
             }
         }
         epsilon_ = hierarchy.linkTolerance * importance.totalPower;
+        visibilityEpsilon_ = hierarchy.visibilityShare * epsilon_;
         prefixArea_.resize(tree.order.size() + 1, 0.0);
         for (std::size_t k = 0; k < tree.order.size(); ++k)
             prefixArea_[k + 1] = prefixArea_[k] + mesh.areas[tree.order[k]];
@@ -130,7 +142,9 @@ private:
     bool far(Pair pair, double phi, Local& local) const {
         const ClusterNode& r = tree_.nodes[pair.r];
         const ClusterNode& s = tree_.nodes[pair.s];
-        const int count = std::max(1, hierarchy_.farRays);
+        // A link whose partial visibility would not be refined needs only a rough V.
+        const bool refinable = 0.5 * phi > visibilityEpsilon_;
+        const int count = std::max(1, refinable ? hierarchy_.farRays : hierarchy_.farRays / 2);
         local.segments.resize(count);
         local.blocked.assign(count, 0);
         const uint32_t seed = shared::pairSeed(pair.r, pair.s, seed_);
@@ -147,7 +161,7 @@ private:
         int open = 0;
         for (uint8_t b : local.blocked)
             open += b == 0;
-        if (open > 0 && open < count && 0.5 * phi > epsilon_) {
+        if (open > 0 && open < count && refinable) {
             ++local.stats.partlyVisibleRefined;
             return false;
         }
@@ -189,6 +203,7 @@ private:
     std::vector<double> source_, yield_;  // per node: largest source and yield
     std::vector<double> prefixArea_;  // over tree.order
     double epsilon_ = 0;
+    double visibilityEpsilon_ = 0;
 };
 
 void addStats(LinkStats& into, const LinkStats& from) {

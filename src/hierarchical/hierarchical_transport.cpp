@@ -44,15 +44,20 @@ HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree 
     farGather(ones, 1, rowSums_);
     const std::vector<double> nearSums = daisy::rowSums(links_.near);
     for (uint32_t i = 0; i < n; ++i) {
-        const double sum = rowSums_[i] + nearSums[i];
+        const double far = rowSums_[i], near = nearSums[i], sum = far + near;
         const bool closed = !enclosed.empty() && enclosed[i];
-        if (sum > 1 || (closed && sum > 0)) {
-            const double scale = 1 / sum;
-            farScale_[i] = scale;
-            for (uint64_t e = links_.near.rowOffsets[i]; e < links_.near.rowOffsets[i + 1]; ++e)
-                links_.near.values[e] = static_cast<float>(links_.near.values[e] * scale);
+        rowSums_[i] = sum;
+        if (!(sum > 1 || (closed && sum > 0))) continue;
+        rowSums_[i] = 1;
+        // The near factors are F's own: the far part takes what is left of 1 when it can.
+        if (far > 0 && near < 1) {
+            farScale_[i] = (1 - near) / far;
+            continue;
         }
-        rowSums_[i] = sum > 1 || (closed && sum > 0) ? 1.0 : sum;
+        const double scale = 1 / sum;
+        farScale_[i] = scale;
+        for (uint64_t e = links_.near.rowOffsets[i]; e < links_.near.rowOffsets[i + 1]; ++e)
+            links_.near.values[e] = static_cast<float>(links_.near.values[e] * scale);
     }
 }
 

@@ -14,10 +14,11 @@
 // two planar nodes and then cost one product a wavelength, like an entry of F.
 // Row sums: in a closed scene (no patch's kEnclosureRays cosine-distributed rays escape), a
 // patch whose rays all land on the front of other patches is enclosed, and its factors must sum
-// to 1 (every ray leaving it lands on a patch): its row is scaled to exactly 1, far part included,
-// which removes the far field's and the hidden links' share of error from the sum (the white
-// furnace then holds exactly). Other rows whose factors sum past 1 are scaled to 1, as the matrix
-// path caps F's rows (capRowSums).
+// to 1 (every ray leaving it lands on a patch): its far part is scaled so that the row sums to
+// exactly 1, which removes the far field's and the hidden links' share of error from the sum
+// (the white furnace then holds exactly). Other rows whose factors sum past 1 are capped at 1
+// the same way, as the matrix path caps F's rows (capRowSums). The near factors are F's own and
+// stay; only a row whose near part alone passes 1 is scaled as a whole.
 //
 // The patches stay the radiosity patches: every front end (vertex radiance, the final gather,
 // the viewer) works on them unchanged; row(i) gives the near links, the patches close enough
@@ -74,14 +75,14 @@ private:
     bool isPlanar(std::size_t node) const { return orientation_[node] != Vec3d{}; }
 
     std::vector<Vec3d> normals_;  // per patch
+    std::vector<double> areas_;  // per patch
     std::vector<Vec3d> orientation_;  // per node: see isPlanar
     std::vector<uint64_t> slot_;  // per node: its far-gather values start at slot_ x m; + end
     // The far gather's pull and push values, reused by one gather at a time (another
     // concurrent one allocates its own).
     mutable std::mutex workspaceMutex_;
     mutable std::vector<double> pullWorkspace_, pushWorkspace_;
-    std::vector<double> areas_;  // per patch
-    std::vector<double> farScale_;  // per patch: the row cap's scale (1 when not capped)
+    std::vector<double> farScale_;  // per patch: the row cap's scale of the far part (1: none)
     std::vector<double> rowSums_;
 };
 

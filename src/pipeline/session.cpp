@@ -343,7 +343,8 @@ FormFactorKey Session::formFactorKey() const {
         // adds them; the links themselves are not cached.
         const HierarchySettings& h = s.settings.hierarchy;
         family =
-            concat(family, " hierarchical ", h.linkTolerance, " ", h.farRays, " ", h.maxAperture);
+            concat(family, " hierarchical ", h.linkTolerance, " ", h.farRays, " ", h.maxAperture, " ",
+                   h.visibilityShare);
     }
     s.formFactorKey = daisy::formFactorKey(s.patches, s.settings.formFactors, family);
     return *s.formFactorKey;
