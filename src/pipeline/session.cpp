@@ -342,9 +342,8 @@ FormFactorKey Session::formFactorKey() const {
         // The links also depend on E and M (the oracle's weights): the solution cache's key
         // adds them; the links themselves are not cached.
         const HierarchySettings& h = s.settings.hierarchy;
-        family =
-            concat(family, " hierarchical ", h.linkTolerance, " ", h.farRays, " ", h.maxAperture, " ",
-                   h.visibilityShare);
+        family = concat(family, " hierarchical ", h.linkTolerance, " ", h.farRays, " ",
+                        h.maxAperture, " ", h.visibilityShare);
     }
     s.formFactorKey = daisy::formFactorKey(s.patches, s.settings.formFactors, family);
     return *s.formFactorKey;
