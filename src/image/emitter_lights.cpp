@@ -8,11 +8,17 @@
 #include <utility>
 
 #include "core/check.h"
+#include "geometry/bounds.h"
 #include "shared/formfactor.h"
 
 namespace daisy {
 
 namespace {
+
+// Corners whose boundary turns by less than this sine are collinear; triangles whose planes
+// are within kPlaneTolerance of the emitters' bounding-box diagonal are coplanar.
+constexpr double kCollinearSine = 1e-4;
+constexpr double kPlaneTolerance = 1e-5;
 
 // Union-find root with path halving.
 uint32_t root(std::vector<uint32_t>& parent, uint32_t i) {
@@ -50,10 +56,9 @@ std::vector<uint32_t> convexBoundary(const std::vector<std::array<uint32_t, 3>>&
         loop.push_back(it->second);
     }
     if (loop.size() != next.size()) return {};  // several loops (holes, pieces)
-    // Drop collinear corners, then require every remaining turn to be convex.
-    double scale = 0;
-    for (const uint32_t v : loop)
-        scale = std::max(scale, length(points[v] - points[loop.front()]));
+    // Drop collinear corners (turning by under kCollinearSine: a face tessellated as Blender
+    // writes it is planar only to about 1e-6 of its size), then require every remaining turn to
+    // be convex.
     std::vector<uint32_t> corners;
     const std::size_t n = loop.size();
     for (std::size_t i = 0; i < n; ++i) {
@@ -61,7 +66,7 @@ std::vector<uint32_t> convexBoundary(const std::vector<std::array<uint32_t, 3>>&
         const Vec3d& here = points[loop[i]];
         const Vec3d& after = points[loop[(i + 1) % n]];
         const double turn = dot(cross(here - prev, after - here), normal);
-        if (std::abs(turn) <= 1e-9 * scale * scale) continue;
+        if (std::abs(turn) <= kCollinearSine * length(here - prev) * length(after - here)) continue;
         if (turn < 0) return {};
         corners.push_back(loop[i]);
     }
@@ -100,6 +105,10 @@ std::vector<LightTriangle> mergeEmitterFaces(const TriangleMesh& mesh,
         normals[i] = areas[i] > 0 ? area2 * (1.0 / length(area2)) : Vec3d{0, 0, 0};
     }
     // Join triangles across shared edges with the same emission and plane.
+    Bounds3d bounds;
+    for (const Vec3d& p : points)
+        bounds.extend(p);
+    const double planeTolerance = points.empty() ? 0 : kPlaneTolerance * bounds.diagonal();
     std::vector<uint32_t> parent(count);
     std::iota(parent.begin(), parent.end(), 0u);
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> edgeOwner;  // undirected edge -> triangle
@@ -110,9 +119,8 @@ std::vector<LightTriangle> mergeEmitterFaces(const TriangleMesh& mesh,
             const auto [it, added] = edgeOwner.emplace(std::minmax(u, v), i);
             if (added) continue;
             const uint32_t j = it->second;
-            const double size = std::sqrt(std::max(areas[i], areas[j]));
             const bool coplanar = dot(normals[i], normals[j]) >= 1 - 1e-6 &&
-                std::abs(dot(normals[i], points[ids[j][0]] - points[ids[i][0]])) <= 1e-6 * size;
+                std::abs(dot(normals[i], points[ids[j][0]] - points[ids[i][0]])) <= planeTolerance;
             if (coplanar && emissionClass[i] == emissionClass[j])
                 parent[root(parent, i)] = root(parent, j);
         }

@@ -26,10 +26,11 @@ struct LightTriangle {
 
 // The triangles of `mesh` listed in `triangles`, with `emissionClass[i]` equal for two of them
 // exactly when their emission is equal. Groups of at least 3 triangles sharing edges (corners
-// at equal positions), in one plane (normals within 1e-6, offsets within 1e-6 of the group's
-// size) and with one emission class, whose boundary is a single convex loop enclosing their
-// area (1e-6 relative), become a fan over that loop with collinear corners dropped when that
-// has fewer triangles; everything else is kept as it is. Deterministic: lights come in the order
+// at equal positions), in one plane (normals within 1e-6, offsets within 1e-5 of the emitters'
+// bounding-box diagonal: exporters leave faces flat only to rounding) and with one emission
+// class, whose boundary is a single convex loop enclosing their area (1e-6 relative), become a
+// fan over that loop with corners turning by under 1e-4 radians dropped when that has fewer
+// triangles; everything else is kept as it is. Deterministic: lights come in the order
 // of their groups' first triangles.
 std::vector<LightTriangle> mergeEmitterFaces(const TriangleMesh& mesh,
                                              std::span<const uint32_t> triangles,

@@ -90,6 +90,25 @@ TEST(EmitterLights, TessellatedSquareBecomesTwoTrianglesWithTheSameFactors) {
     EXPECT_NEAR(merged, 4.0 / (2 * 3.14159265358979323846) * 2 * s * std::atan(s), 1e-5);
 }
 
+// A Blender-style export: a 36 x 36 grid whose inner vertices sit up to 1e-6 off the plane
+// (tools/make_formfactor_family.py's blender_cornell ceiling) is still one light of 2 triangles
+// with the grid's area; the 2,592 triangles kept apart made its final gather 15x slower.
+TEST(EmitterLights, AFaceFlatToRoundingOfItsExportIsMerged) {
+    TriangleMesh mesh;
+    addGrid(mesh, 36, 1.0);
+    uint32_t state = 7;
+    for (Vec3d& p : mesh.positions) {
+        state = state * 1664525u + 1013904223u;
+        if (p.x > 0 && p.x < 1 && p.y > 0 && p.y < 1)
+            p.z += 1e-6 * (double(state >> 8) / (1 << 24) - 0.5) * 2;
+    }
+    const std::vector<uint32_t> triangles = allTriangles(mesh);
+    const std::vector<uint32_t> classes(triangles.size(), 0);
+    const std::vector<LightTriangle> lights = mergeEmitterFaces(mesh, triangles, classes);
+    ASSERT_EQ(lights.size(), 2u);
+    EXPECT_NEAR(areaOf(lights), 1.0, 1e-9);
+}
+
 TEST(EmitterLights, DifferentEmissionsPlanesAndConcaveOutlinesAreKept) {
     TriangleMesh mesh;
     addGrid(mesh, 2, 1.0);  // 8 triangles
