@@ -260,16 +260,27 @@ Expected<MatrixComparison> HierarchicalTransport::compare(const Transport& other
 
 namespace {
 
-// Per patch of a closed scene: 1 when every one of kEnclosureRays cosine-distributed rays from
-// area-uniform points of it lands on the front of a patch, none of them a face lying on it (closer
-// than 1% of its size and facing it): closed around it by surfaces that face it, and not partly
-// buried (a patch under a block has no well-defined row sum; the session's exposed parts handle
-// it). One hash per ray keeps it independent of the thread count.
-std::vector<uint8_t> enclosedPatches(const PatchMesh& mesh, const RayCaster& caster,
-                                     uint32_t seed) {
-    const std::size_t n = mesh.patchCount();
+struct PatchSurvey {
+    std::vector<uint8_t> enclosed;  // per patch: its row must sum to 1
+    std::vector<uint8_t> reached;  // per patch: light can reach it
+};
 
-    std::vector<uint8_t> enclosed(n, 0);
+// kEnclosureRays cosine-distributed rays from area-uniform points of every patch (one hash per
+// ray: independent of the thread count), and what they tell:
+// - enclosed, in a closed scene (no ray from any patch escapes; a patch that sees a small
+//   opening can send all of a few rays past it): every ray of the patch lands on the front of a
+//   patch, none of them a face lying on it (closer than 1% of its size and facing it): closed
+//   around it by surfaces that face it, and not partly buried (a patch under a block has no
+//   well-defined row sum; the session's exposed parts handle it);
+// - reached: the patches a path of these rays leads to from an emitter (any patch with
+//   emission, punctual lights' reflections included), by breadth-first search. The rest are
+//   dark cavities, such as the inside of a closed double-sided box standing on the floor.
+PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
+                          const RayCaster& caster, uint32_t seed) {
+    const std::size_t n = mesh.patchCount(), wavelengths = system.wavelengthCount;
+    PatchSurvey survey;
+    survey.enclosed.assign(n, 0);
+    std::vector<uint32_t> lands(n * kEnclosureRays, kNoPatch);  // front hits only
     std::atomic<bool> escaped{false};
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, n, 64),
@@ -296,30 +307,54 @@ std::vector<uint8_t> enclosedPatches(const PatchMesh& mesh, const RayCaster& cas
                 // The distance to each hit, from the hit patch's plane.
                 const double contact = 0.01 * std::sqrt(mesh.areas[i]);
                 bool closed = true;
-                for (int k = 0; k < kEnclosureRays && closed; ++k) {
+                for (int k = 0; k < kEnclosureRays; ++k) {
                     if (hits[k] == kNoPatch) {
                         closed = false;
                         escaped = true;
-                        break;
+                        continue;
                     }
                     const Vec3d o{rays[k].origin[0], rays[k].origin[1], rays[k].origin[2]};
                     const Vec3d d{rays[k].direction[0], rays[k].direction[1], rays[k].direction[2]};
-                    const Vec3d& m = mesh.normals[hits[k]];
+                    // Of a double-sided surface's two coincident faces, the ray meets the one
+                    // facing it.
+                    uint32_t hit = hits[k];
+                    if (dot(mesh.normals[hit], d) >= 0 && mesh.backPatch[hit] != kNoBackPatch)
+                        hit = mesh.backPatch[hit];
+                    const Vec3d& m = mesh.normals[hit];
                     const double distance =
-                        dot(m, mesh.positions[mesh.patches[hits[k]][0]] - o) / dot(m, d);
+                        dot(m, mesh.positions[mesh.patches[hit][0]] - o) / dot(m, d);
                     // A back face returns no light; a face lying on this one
                     // (facing it, closer than 1% of its size) buries it.
+                    const bool front = dot(m, d) < 0;
                     const bool buried =
                         std::abs(distance) < contact && dot(m, mesh.normals[i]) < -0.99;
-                    closed = dot(m, d) < 0 && !buried;
+                    closed = closed && front && !buried;
+                    if (front) lands[i * kEnclosureRays + std::size_t(k)] = hit;
                 }
-                enclosed[i] = closed;
+                survey.enclosed[i] = closed;
             }
         });
-    // Only a closed scene (no ray escaped from any patch) says its rows sum to 1: a patch that
-    // sees a small opening can send all of a few rays past it.
-    if (escaped) std::fill(enclosed.begin(), enclosed.end(), 0);
-    return enclosed;
+    if (escaped) std::fill(survey.enclosed.begin(), survey.enclosed.end(), 0);
+
+    survey.reached.assign(n, 0);
+    std::vector<uint32_t> queue;
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto e = system.emission.begin() + std::ptrdiff_t(i * wavelengths);
+        if (std::any_of(e, e + std::ptrdiff_t(wavelengths), [](double v) { return v > 0; })) {
+            survey.reached[i] = 1;
+            queue.push_back(uint32_t(i));
+        }
+    }
+    for (std::size_t head = 0; head < queue.size(); ++head) {
+        for (int k = 0; k < kEnclosureRays; ++k) {
+            const uint32_t j = lands[std::size_t(queue[head]) * kEnclosureRays + std::size_t(k)];
+            if (j != kNoPatch && !survey.reached[j]) {
+                survey.reached[j] = 1;
+                queue.push_back(j);
+            }
+        }
+    }
+    return survey;
 }
 
 }  // namespace
@@ -355,16 +390,16 @@ Expected<std::shared_ptr<const HierarchicalTransport>> buildHierarchicalTranspor
     if (!caster) return caster.error();
     tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
     return arena.execute([&]() -> Expected<std::shared_ptr<const HierarchicalTransport>> {
+        const PatchSurvey survey =
+            surveyPatches(mesh, system, **caster, static_cast<uint32_t>(settings.seed));
         ClusterTree tree = buildClusterTree(mesh);
         const std::unique_ptr<PairEvaluator> evaluator =
             makeRayPairEvaluator(mesh, settings, **caster);
-        auto links = buildHierarchicalLinks(mesh, tree, linkImportance(system), hierarchy, settings,
-                                            *evaluator, **caster);
+        auto links = buildHierarchicalLinks(mesh, tree, linkImportance(system, survey.reached),
+                                            hierarchy, settings, *evaluator, **caster);
         if (!links) return links.error();
-        const std::vector<uint8_t> enclosed =
-            enclosedPatches(mesh, **caster, static_cast<uint32_t>(settings.seed));
         return std::make_shared<const HierarchicalTransport>(mesh, std::move(tree),
-                                                             std::move(*links), enclosed);
+                                                             std::move(*links), survey.enclosed);
     });
 }
 

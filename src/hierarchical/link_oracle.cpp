@@ -95,8 +95,9 @@ LinkChoice splitChoice(const ClusterNode& r, const ClusterNode& s) {
 LinkDecision chooseLink(const ClusterNode& r, const ClusterNode& s, const LinkWeights& weights,
                         double epsilon, double maxAperture) {
     LinkDecision decision;
+    const bool carries = weights.sourceS * weights.yieldR + weights.sourceR * weights.yieldS > 0;
     const int rFaces = facing(r, s), sFaces = facing(s, r);
-    if (rFaces < 0 || sFaces < 0) {
+    if (!carries || rFaces < 0 || sFaces < 0) {
         decision.choice = LinkChoice::None;
         return decision;
     }
@@ -140,7 +141,7 @@ LinkDecision chooseLink(const ClusterNode& r, const ClusterNode& s, const LinkWe
     return decision;
 }
 
-LinkImportance linkImportance(const RadiositySystem& system) {
+LinkImportance linkImportance(const RadiositySystem& system, std::span<const uint8_t> reached) {
     const std::size_t n = system.patchCount, m = system.wavelengthCount;
     const std::vector<double>& widths = system.binWidthsNm;
     std::vector<double> ybar(m);
@@ -212,9 +213,9 @@ LinkImportance linkImportance(const RadiositySystem& system) {
         for (std::size_t k = 0; k < m; ++k)
             source +=
                 (directShare * system.emission[i * m + k] + bounce[p][k]) * worth[k] * widths[k];
-        importance.source[i] = source;
+        importance.source[i] = reached.empty() || reached[i] ? source : 0.0;
         importance.yield[i] = yield[p];
-        importance.totalPower += system.areas[i] * source;
+        importance.totalPower += system.areas[i] * importance.source[i];
     }
     return importance;
 }

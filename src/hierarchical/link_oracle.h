@@ -20,6 +20,11 @@
 // smooth indirect light and need not resolve the direct light patch by patch. Then
 //     source_j = sum_k (r E_jk + (M_j Gbar)_k) W_k w_k      (visible-weighted exitance, W m^-2)
 //     yield_j  = max_k (sum_o M_j[o][k] W_o w_o) / (W_k w_k), clamped to [0, 1].
+// The ambient light only reaches patches that light can reach: a patch no ray path from an
+// emitter lands on (`reached`, hierarchical_transport.h: the inside of a closed double-sided
+// box standing on the floor) has source 0, and a pair of such patches carries nothing.
+#include <cstdint>
+#include <span>
 #include <vector>
 
 #include "hierarchical/cluster_tree.h"
@@ -33,11 +38,14 @@ struct LinkImportance {
     double totalPower = 0;  // sum_j A_j source_j, W (scene units squared x W m^-2)
 };
 
-LinkImportance linkImportance(const RadiositySystem& system);
+// reached: per patch, 0 when no light can reach it (empty: every patch can).
+LinkImportance linkImportance(const RadiositySystem& system,
+                              std::span<const uint8_t> reached = {});
 
 // The oracle's geometric decision for two distinct nodes R and S, before visibility
-// (hierarchical/hierarchical_links.h gives the rules): no exchange (one side faces wholly away),
-// a far link, or a split of R or of S, or a near link (two leaves).
+// (hierarchical/hierarchical_links.h gives the rules): no exchange (one side faces wholly away,
+// or the pair carries nothing: s_S y_R + s_R y_S = 0), a far link, or a split of R or of S, or a
+// near link (two leaves).
 enum class LinkChoice { None, Far, SplitReceiver, SplitSource, Near };
 
 struct LinkWeights {

@@ -104,6 +104,30 @@ TEST(HierarchicalTransport, AClusterOfSmallSquaresTransportsWhatOneSquareDoes) {
     EXPECT_NEAR(received[0], expected, 5e-3 * expected);
 }
 
+// A lit room around a floating closed box whose material is double-sided (as Blender exports
+// every material): the box's back faces enclose a cavity no light reaches. Its patches have
+// nothing to exchange, so no pair of them is linked (they were, as near pairs for the most part:
+// the double-sided Blender-style Cornell box's block interiors), while the box's outside is lit.
+TEST(HierarchicalTransport, ADarkCavityGetsNoLinks) {
+    TriangleMesh triangles = verify::unitCubeRoom(4);
+    const uint32_t roomTriangles = uint32_t(triangles.triangleCount());
+    verify::addSolidBox(triangles, {0.35, 0.35, 0.35}, {0.3, 0.3, 0.3}, 4);
+    for (uint32_t t = roomTriangles; t < triangles.triangleCount(); ++t)
+        triangles.materials[t] = 1;
+    const uint8_t doubleSided[2] = {0, 1};
+    auto mesh = buildPatchMesh(triangles, 0, UINT32_MAX, doubleSided);
+    ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+    const uint32_t n = uint32_t(mesh->patchCount()), box = n - roomTriangles;  // fronts + backs
+    ASSERT_EQ(box % 2, 0u);
+    const uint32_t backs = n - box / 2;  // back patches follow every front patch
+    RadiositySystem system = greySystem(*mesh, 0.5, 0);
+    std::fill_n(system.emission.begin(), roomTriangles, 1.0);  // the room's walls emit
+    const auto transport = build(*mesh, system);
+    ASSERT_TRUE(transport);
+    EXPECT_EQ(groupFactor(*mesh, *transport, backs, n, backs, n), 0.0);
+    EXPECT_GT(groupFactor(*mesh, *transport, roomTriangles, backs, 0, roomTriangles), 0.1);
+}
+
 // A closed room (no ray escapes): every row is scaled to exactly 1, so the white furnace
 // B = E / (1 - rho) holds to the solver's tolerance, and so does the fluorescent furnace
 // B = (I - M)^-1 E (solver_test.cpp's oracle).
