@@ -39,8 +39,7 @@ struct LinkImportance {
 };
 
 // reached: per patch, 0 when no light can reach it (empty: every patch can).
-LinkImportance linkImportance(const RadiositySystem& system,
-                              std::span<const uint8_t> reached = {});
+LinkImportance linkImportance(const RadiositySystem& system, std::span<const uint8_t> reached = {});
 
 // The oracle's geometric decision for two distinct nodes R and S, before visibility
 // (hierarchical/hierarchical_links.h gives the rules): no exchange (one side faces wholly away,
