@@ -28,7 +28,6 @@ constexpr float kSegmentTrim = 1e-4f;
 struct FarRecord {
     uint32_t receiver, source;
     float coupling;
-    float direction[3];  // receiver -> source
 };
 
 // The mean of cos_x cos_y / r^2 over area-uniform points x of R and y of S, relative to its
@@ -169,13 +168,11 @@ private:
             ++local.stats.hidden;
             return true;
         }
-        const Vec3d between = s.centroid - r.centroid;
-        const double distance = length(between);
-        const Vec3d u = between / distance;
+        const double distance = length(s.centroid - r.centroid);
+        const Vec3d u = farDirection(r, s);
         const double coupling =
             double(open) / count * secondOrder(r, s, u, distance) / (M_PI * distance * distance);
-        FarRecord record{pair.r, pair.s, float(coupling), {float(u.x), float(u.y), float(u.z)}};
-        local.far.push_back(record);
+        local.far.push_back({pair.r, pair.s, float(coupling)});
         return true;
     }
 
@@ -227,10 +224,8 @@ void groupFarLinks(const std::vector<FarRecord>& records, std::size_t nodeCount,
     links.far.resize(links.farOffsets.back());
     std::vector<uint64_t> cursor(links.farOffsets.begin(), links.farOffsets.end() - 1);
     for (const FarRecord& record : records) {
-        const float* u = record.direction;
-        links.far[cursor[record.receiver]++] = {record.source, record.coupling, {u[0], u[1], u[2]}};
-        links.far[cursor[record.source]++] = {
-            record.receiver, record.coupling, {-u[0], -u[1], -u[2]}};
+        links.far[cursor[record.receiver]++] = {record.source, record.coupling};
+        links.far[cursor[record.source]++] = {record.receiver, record.coupling};
     }
     for (std::size_t k = 0; k < nodeCount; ++k) {
         std::sort(links.far.begin() + links.farOffsets[k],

@@ -62,12 +62,17 @@ struct HierarchySettings {
     double maxAperture = 0.25;
 };
 
-// One half of a far link, stored under its receiving node.
+// One half of a far link, stored under its receiving node. Its direction u is the unit vector
+// from the receiver's centroid to the source's (ClusterNode::centroid): farDirection.
 struct FarLink {
     uint32_t source = 0;  // node index
-    float coupling = 0;  // K = V / (pi r^2), scene units^-2
-    float direction[3] = {0, 0, 0};  // unit, receiver centroid -> source centroid
+    float coupling = 0;  // K = V c / (pi r^2), scene units^-2
 };
+
+inline Vec3d farDirection(const ClusterNode& receiver, const ClusterNode& source) {
+    const Vec3d between = source.centroid - receiver.centroid;
+    return between / length(between);
+}
 
 struct LinkStats {
     uint64_t nearEntries = 0;  // stored F_ij of the near links (both directions)

@@ -10,6 +10,7 @@
 #include "core/check.h"
 #include "core/strings.h"
 #include "geometry/shared_vec.h"
+#include "radiosity/gather_kernels.h"
 #include "radiosity/matrix_transport.h"
 #include "radiosity/ray_pair_evaluator.h"
 #include "raycast/ray_caster.h"
@@ -27,15 +28,38 @@ HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree 
     // when it is): its far links need the scalar form only. Leaves use the patch's own normal.
     const std::size_t nodes = tree_.nodes.size();
     orientation_.assign(nodes, Vec3d{});
+    centroids_.resize(nodes);
     slot_.assign(nodes + 1, 0);
     for (std::size_t k = 0; k < nodes; ++k) {
         const ClusterNode& node = tree_.nodes[k];
+        centroids_[k] = node.centroid;
         if (node.isLeaf()) {
             orientation_[k] = normals_[tree_.order[node.first]];
         } else if (node.isPlanar()) {
             orientation_[k] = node.coneAxis;
         }
         slot_[k + 1] = slot_[k] + (isPlanar(k) ? 1 : 3);
+    }
+    DAISY_CHECK(slot_[nodes] <= UINT32_MAX);
+    // Each receiver's half-links: those between two planar nodes as weights on the source's
+    // slot, -K (u . n_S) (u . n_R); the others by index.
+    planarOffsets_.assign(nodes + 1, 0);
+    otherOffsets_.assign(nodes + 1, 0);
+    for (std::size_t k = 0; k < nodes; ++k) {
+        for (uint64_t e = links_.farOffsets[k]; e < links_.farOffsets[k + 1]; ++e) {
+            const FarLink& link = links_.far[e];
+            if (isPlanar(k) && isPlanar(link.source)) {
+                const Vec3d u = farDirection(tree_.nodes[k], tree_.nodes[link.source]);
+                planarSlots_.push_back(uint32_t(slot_[link.source]));
+                planarWeights_.push_back(float(-double(link.coupling) *
+                                               dot(u, orientation_[link.source]) *
+                                               dot(u, orientation_[k])));
+            } else {
+                otherLinks_.push_back(e);
+            }
+        }
+        planarOffsets_[k + 1] = planarSlots_.size();
+        otherOffsets_[k + 1] = otherLinks_.size();
     }
     farScale_.assign(n, 1.0);
     // Row sums: G for B = 1 at one wavelength.
@@ -64,6 +88,8 @@ HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree 
 TransportStats HierarchicalTransport::stats() const {
     return {links_.near.nonzeroCount() + links_.far.size(),
             links_.near.bytes() + links_.far.size() * sizeof(FarLink) +
+                planarSlots_.size() * (sizeof(uint32_t) + sizeof(float)) +
+                otherLinks_.size() * sizeof(uint64_t) + 2 * planarOffsets_.size() * sizeof(uint64_t) +
                 links_.farOffsets.size() * sizeof(uint64_t) + tree_.bytes() +
                 (normals_.size() * sizeof(Vec3d)) + 2 * areas_.size() * sizeof(double)};
 }
@@ -97,9 +123,7 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
     std::vector<double>& push = lock.owns_lock() ? pushWorkspace_ : ownPush;
     pull.resize(size);
     push.assign(size, 0.0);
-    const auto at = [m](std::vector<double>& values, std::size_t slot) {
-        return values.data() + slot * m;
-    };
+    const auto at = [m](auto& values, std::size_t slot) { return values.data() + slot * m; };
     // Pull: children before parents. A planar node holds Q = sum A_j B_j (its P is n Q).
     for (std::size_t k = nodes; k-- > 0;) {
         const ClusterNode& node = tree_.nodes[k];
@@ -132,31 +156,33 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
                 p[c] += n.x * q[c], p[m + c] += n.y * q[c], p[2 * m + c] += n.z * q[c];
         }
     }
-    // Links: each receiving node sums its half-links in source order, s = -K (u . P_S) per
-    // wavelength; a planar receiver keeps n_R . J = sum s (u . n_R), another J = sum s u.
+    // Links: each receiving node sums its half-links, s = -K (u . P_S) per wavelength; a planar
+    // receiver keeps n_R . J = sum s (u . n_R), another J = sum s u. Between two planar nodes
+    // that is one weight times Q_S (planarWeights_), summed by the solver's vectorised kernel
+    // in the pairs' fixed order.
+    const AccumulateFn<double> accumulate = accumulateFor<double>(m);
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, nodes, 256),
         [&](const tbb::blocked_range<std::size_t>& range) {
             for (std::size_t k = range.begin(); k != range.end(); ++k) {
                 double* __restrict j = at(push, slot_[k]);
+                if (planarOffsets_[k] < planarOffsets_[k + 1]) {
+                    accumulate(planarSlots_.data(), planarWeights_.data(), planarOffsets_[k],
+                               planarOffsets_[k + 1], pull.data(), m, j);
+                }
                 const bool planarReceiver = isPlanar(k);
                 const Vec3d& receiverNormal = orientation_[k];
-                for (uint64_t e = links_.farOffsets[k]; e < links_.farOffsets[k + 1]; ++e) {
-                    const FarLink& link = links_.far[e];
+                for (uint64_t o = otherOffsets_[k]; o < otherOffsets_[k + 1]; ++o) {
+                    const FarLink& link = links_.far[otherLinks_[o]];
                     const double* __restrict p = at(pull, slot_[link.source]);
-                    const Vec3d u{link.direction[0], link.direction[1], link.direction[2]};
+                    const Vec3d between = centroids_[link.source] - centroids_[k];
+                    const Vec3d u = between / length(between);  // farDirection
                     const double coupling = link.coupling;
                     if (isPlanar(link.source)) {
                         const double w = -coupling * dot(u, orientation_[link.source]);
-                        if (planarReceiver) {
-                            const double v = w * dot(u, receiverNormal);
-                            for (std::size_t c = 0; c < m; ++c)
-                                j[c] += v * p[c];
-                        } else {
-                            for (std::size_t c = 0; c < m; ++c) {
-                                const double s = w * p[c];
-                                j[c] += s * u.x, j[m + c] += s * u.y, j[2 * m + c] += s * u.z;
-                            }
+                        for (std::size_t c = 0; c < m; ++c) {
+                            const double s = w * p[c];
+                            j[c] += s * u.x, j[m + c] += s * u.y, j[2 * m + c] += s * u.z;
                         }
                     } else if (planarReceiver) {
                         const Vec3d a = u * (-coupling * dot(u, receiverNormal));

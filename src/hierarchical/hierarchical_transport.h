@@ -77,6 +77,14 @@ private:
     std::vector<Vec3d> normals_;  // per patch
     std::vector<double> areas_;  // per patch
     std::vector<Vec3d> orientation_;  // per node: see isPlanar
+    std::vector<Vec3d> centroids_;  // per node: ClusterNode::centroid, packed for the gather
+    // The far half-links by receiver, split for the gather (farGather): between two planar
+    // nodes, the source's slot and the weight -K (u . n_S) (u . n_R); the others' indices into
+    // links_.far.
+    std::vector<uint64_t> planarOffsets_, otherOffsets_;  // per node + 1
+    std::vector<uint32_t> planarSlots_;
+    std::vector<float> planarWeights_;
+    std::vector<uint64_t> otherLinks_;
     std::vector<uint64_t> slot_;  // per node: its far-gather values start at slot_ x m; + end
     // The far gather's pull and push values, reused by one gather at a time (another
     // concurrent one allocates its own).
