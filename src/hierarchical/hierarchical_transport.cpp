@@ -51,9 +51,9 @@ HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree 
             if (isPlanar(k) && isPlanar(link.source)) {
                 const Vec3d u = farDirection(tree_.nodes[k], tree_.nodes[link.source]);
                 planarSlots_.push_back(uint32_t(slot_[link.source]));
-                planarWeights_.push_back(float(-double(link.coupling) *
-                                               dot(u, orientation_[link.source]) *
-                                               dot(u, orientation_[k])));
+                planarWeights_.push_back(
+                    float(-double(link.coupling) * dot(u, orientation_[link.source]) *
+                          dot(u, orientation_[k])));
             } else {
                 otherLinks_.push_back(e);
             }
@@ -89,7 +89,8 @@ TransportStats HierarchicalTransport::stats() const {
     return {links_.near.nonzeroCount() + links_.far.size(),
             links_.near.bytes() + links_.far.size() * sizeof(FarLink) +
                 planarSlots_.size() * (sizeof(uint32_t) + sizeof(float)) +
-                otherLinks_.size() * sizeof(uint64_t) + 2 * planarOffsets_.size() * sizeof(uint64_t) +
+                otherLinks_.size() * sizeof(uint64_t) +
+                2 * planarOffsets_.size() * sizeof(uint64_t) +
                 links_.farOffsets.size() * sizeof(uint64_t) + tree_.bytes() +
                 (normals_.size() * sizeof(Vec3d)) + 2 * areas_.size() * sizeof(double)};
 }
