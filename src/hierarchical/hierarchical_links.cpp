@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 
@@ -96,8 +97,13 @@ public:
         epsilon_ = hierarchy.linkTolerance * importance.totalPower;
         visibilityEpsilon_ = hierarchy.visibilityShare * epsilon_;
         prefixArea_.resize(tree.order.size() + 1, 0.0);
-        for (std::size_t k = 0; k < tree.order.size(); ++k)
-            prefixArea_[k + 1] = prefixArea_[k] + mesh.areas[tree.order[k]];
+        corners_.resize(tree.order.size());
+        for (std::size_t k = 0; k < tree.order.size(); ++k) {
+            const uint32_t patch = tree.order[k];
+            prefixArea_[k + 1] = prefixArea_[k] + mesh.areas[patch];
+            for (int c = 0; c < 3; ++c)
+                corners_[k][c] = toVec3(mesh.positions[mesh.patches[patch][c]]);
+        }
     }
 
     // Decides one pair: a link (far or near), nothing, or up to three child pairs in `next`.
@@ -185,10 +191,9 @@ private:
         auto it = std::upper_bound(prefixArea_.begin() + node.first + 1,
                                    prefixArea_.begin() + node.first + node.count, target);
         const auto index = static_cast<std::size_t>(it - prefixArea_.begin()) - 1;
-        const auto& corners = mesh_.patches[tree_.order[index]];
+        const std::array<shared::vec3, 3>& c = corners_[index];
         return shared::uniformPointOnTriangle(
-            toVec3(mesh_.positions[corners[0]]), toVec3(mesh_.positions[corners[1]]),
-            toVec3(mesh_.positions[corners[2]]),
+            c[0], c[1], c[2],
             shared::vec2(shared::hashToUnitFloat(1, seed), shared::hashToUnitFloat(2, seed)));
     }
 
@@ -199,6 +204,7 @@ private:
     uint32_t seed_;
     std::vector<double> source_, yield_;  // per node: largest source and yield
     std::vector<double> prefixArea_;  // over tree.order
+    std::vector<std::array<shared::vec3, 3>> corners_;  // each patch's corners, in tree.order
     double epsilon_ = 0;
     double visibilityEpsilon_ = 0;
 };
