@@ -92,7 +92,9 @@ TransportStats HierarchicalTransport::stats() const {
                 otherLinks_.size() * sizeof(uint64_t) +
                 2 * planarOffsets_.size() * sizeof(uint64_t) +
                 links_.farOffsets.size() * sizeof(uint64_t) + tree_.bytes() +
-                (normals_.size() * sizeof(Vec3d)) + 2 * areas_.size() * sizeof(double)};
+                (orientation_.size() + centroids_.size()) * sizeof(Vec3d) +
+                slot_.size() * sizeof(uint64_t) + (normals_.size() * sizeof(Vec3d)) +
+                2 * areas_.size() * sizeof(double)};
 }
 
 std::string HierarchicalTransport::checkStructure() const {
@@ -387,16 +389,18 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
 }  // namespace
 
 HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengthCount) {
-    // Per patch, above what was measured (docs/performance.md, "Hierarchical transport"): 138
-    // near factors and 183 far links on the default scene, 283 and 385 on the Blender-style box.
-    constexpr uint64_t kNearPerPatch = 300, kFarPerPatch = 400;
+    // Per patch, above what was measured (docs/performance.md, "Hierarchical transport"): 194
+    // near factors and 258 far links on the default scene, 286 and 421 on the Blender-style
+    // box, 266 and 265 on the 30,012-triangle interior.
+    constexpr uint64_t kNearPerPatch = 320, kFarPerPatch = 480;
     const uint64_t n = mesh.patchCount();
     HierarchyEstimate estimate;
     estimate.nearEntries = n * kNearPerPatch;
     estimate.farLinks = n * kFarPerPatch;
     const uint64_t nodes = n > 0 ? 2 * n - 1 : 0;
     estimate.bytes = sparseMatrixBytes(n, estimate.nearEntries) +
-        2 * estimate.farLinks * sizeof(FarLink) + nodes * (sizeof(ClusterNode) + 8) +
+        2 * estimate.farLinks * (sizeof(FarLink) + sizeof(uint32_t) + sizeof(float)) +
+        nodes * (sizeof(ClusterNode) + 8 + 2 * sizeof(Vec3d) + 2 * 8) +
         n * (sizeof(Vec3d) + 2 * sizeof(double) + 8) + 2 * nodes * 3 * wavelengthCount * 8;
     return estimate;
 }
