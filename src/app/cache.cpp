@@ -12,6 +12,7 @@
 #include "core/log.h"
 #include "core/strings.h"
 #include "pipeline/formfactor_cache.h"
+#include "pipeline/links_cache.h"
 #include "pipeline/solution_cache.h"
 
 namespace daisy::app {
@@ -32,6 +33,7 @@ std::string summaryOf(const CacheEntry& entry) {
     if (!entry.headerValid) return "damaged header (rejected and removed when next read)";
     if (std::string text = FormFactorCache::describe(entry.header); !text.empty()) return text;
     if (std::string text = SolutionCache::describe(entry.header); !text.empty()) return text;
+    if (std::string text = LinksCache::describe(entry.header); !text.empty()) return text;
     std::string magic;
     for (char c : entry.header.magic)
         if (c >= ' ' && c <= '~') magic += c;

@@ -120,11 +120,10 @@ int runInfo(const CommonOptions& options) {
     printRow("backend", backendLine(session->settings()));
     const auto& cacheDirectory = session->settings().cacheDirectory;
     printRow(
-        "cached F",
+        session->settings().transport == TransportKind::Hierarchical ? "cached links" : "cached F",
         !cacheDirectory ? std::string("no (--no-cache)")
             : session->formFactorsCached()
-            ? concat("yes: ",
-                     FormFactorCache(*cacheDirectory).entryPath(session->formFactorKey()).string())
+            ? concat("yes: ", session->formFactorsCachePath().string())
             : concat("no (", options.backend, ", ", options.method, ", L ", options.quadratureLevel,
                      ", K ", options.raysPerPair, ", seed ", options.seed, " not in ",
                      cacheDirectory->string(), ")"));

@@ -24,6 +24,42 @@ HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree 
                                              const std::vector<uint8_t>& enclosed)
     : tree_(std::move(tree)), links_(std::move(links)), normals_(mesh.normals), areas_(mesh.areas) {
     const uint32_t n = links_.near.size;
+    prepareGather();
+    farScale_.assign(n, 1.0);
+    // Row sums: G for B = 1 at one wavelength.
+    const std::vector<double> ones(n, 1.0);
+    rowSums_.assign(n, 0.0);
+    farGather(ones, 1, rowSums_);
+    const std::vector<double> nearSums = daisy::rowSums(links_.near);
+    for (uint32_t i = 0; i < n; ++i) {
+        const double far = rowSums_[i], near = nearSums[i], sum = far + near;
+        const bool closed = !enclosed.empty() && enclosed[i];
+        rowSums_[i] = sum;
+        if (!(sum > 1 || (closed && sum > 0))) continue;
+        rowSums_[i] = 1;
+        // The near factors are F's own: the far part takes what is left of 1 when it can.
+        if (far > 0 && near < 1) {
+            farScale_[i] = (1 - near) / far;
+            continue;
+        }
+        const double scale = 1 / sum;
+        farScale_[i] = scale;
+        for (uint64_t e = links_.near.rowOffsets[i]; e < links_.near.rowOffsets[i + 1]; ++e)
+            links_.near.values[e] = static_cast<float>(links_.near.values[e] * scale);
+    }
+}
+
+HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, HierarchicalParts parts)
+    : tree_(std::move(parts.tree)),
+      links_(std::move(parts.links)),
+      normals_(mesh.normals),
+      areas_(mesh.areas),
+      farScale_(std::move(parts.farScale)),
+      rowSums_(std::move(parts.rowSums)) {
+    if (checkStructure().empty()) prepareGather();
+}
+
+void HierarchicalTransport::prepareGather() {
     // A planar node's patches share one normal (cluster_tree.h; a node's children are planar
     // when it is): its far links need the scalar form only. Leaves use the patch's own normal.
     const std::size_t nodes = tree_.nodes.size();
@@ -61,28 +97,6 @@ HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree 
         planarOffsets_[k + 1] = planarSlots_.size();
         otherOffsets_[k + 1] = otherLinks_.size();
     }
-    farScale_.assign(n, 1.0);
-    // Row sums: G for B = 1 at one wavelength.
-    const std::vector<double> ones(n, 1.0);
-    rowSums_.assign(n, 0.0);
-    farGather(ones, 1, rowSums_);
-    const std::vector<double> nearSums = daisy::rowSums(links_.near);
-    for (uint32_t i = 0; i < n; ++i) {
-        const double far = rowSums_[i], near = nearSums[i], sum = far + near;
-        const bool closed = !enclosed.empty() && enclosed[i];
-        rowSums_[i] = sum;
-        if (!(sum > 1 || (closed && sum > 0))) continue;
-        rowSums_[i] = 1;
-        // The near factors are F's own: the far part takes what is left of 1 when it can.
-        if (far > 0 && near < 1) {
-            farScale_[i] = (1 - near) / far;
-            continue;
-        }
-        const double scale = 1 / sum;
-        farScale_[i] = scale;
-        for (uint64_t e = links_.near.rowOffsets[i]; e < links_.near.rowOffsets[i + 1]; ++e)
-            links_.near.values[e] = static_cast<float>(links_.near.values[e] * scale);
-    }
 }
 
 TransportStats HierarchicalTransport::stats() const {
@@ -99,8 +113,29 @@ TransportStats HierarchicalTransport::stats() const {
 
 std::string HierarchicalTransport::checkStructure() const {
     if (std::string near = validateStructure(links_.near); !near.empty()) return near;
-    const std::size_t nodes = tree_.nodes.size();
+    const std::size_t n = links_.near.size, nodes = tree_.nodes.size();
+    if (normals_.size() != n || tree_.order.size() != n || tree_.leafOf.size() != n ||
+        farScale_.size() != n || rowSums_.size() != n || nodes != (n > 0 ? 2 * n - 1 : 0)) {
+        return concat("the tree or the per-patch arrays do not match the ", n, " patches");
+    }
+    for (std::size_t k = 0; k < nodes; ++k) {
+        const ClusterNode& node = tree_.nodes[k];
+        const bool inside = node.count >= 1 && node.first < n && node.count <= n - node.first;
+        const bool leaf = inside && node.isLeaf() && tree_.order[node.first] < n;
+        const bool inner = inside && !node.isLeaf() && node.children[0] > k &&
+            node.children[1] > k && node.children[0] < nodes && node.children[1] < nodes;
+        if (!leaf && !inner) return concat("tree node ", k, " is out of range");
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!std::isfinite(farScale_[i]) || !std::isfinite(rowSums_[i])) {
+            return concat("patch ", i, " has a far scale or row sum that is not finite");
+        }
+    }
     if (links_.farOffsets.size() != nodes + 1) return "far-link offsets do not match the tree";
+    for (std::size_t k = 0; k < nodes; ++k) {
+        if (links_.farOffsets[k] > links_.farOffsets[k + 1]) return "far-link offsets decrease";
+    }
+    if (links_.farOffsets.back() != links_.far.size()) return "far-link offsets pass the links";
     for (std::size_t e = 0; e < links_.far.size(); ++e) {
         const FarLink& link = links_.far[e];
         if (link.source >= nodes || !std::isfinite(link.coupling) || link.coupling < 0) {

@@ -38,11 +38,23 @@ namespace daisy {
 
 inline constexpr int kEnclosureRays = 32;
 
+// What the disk cache keeps of a built transport (pipeline/links_cache.h): enough to restore
+// it exactly, the near factors and the far scales as the row caps left them.
+struct HierarchicalParts {
+    ClusterTree tree;
+    HierarchicalLinks links;
+    std::vector<double> farScale;  // per patch
+    std::vector<double> rowSums;  // per patch
+};
+
 class HierarchicalTransport final : public Transport {
 public:
     // enclosed: per patch, 1 when its row must sum to 1 (empty: no patch known to be).
     HierarchicalTransport(const PatchMesh& mesh, ClusterTree tree, HierarchicalLinks links,
                           const std::vector<uint8_t>& enclosed = {});
+    // Restores a transport from what parts() gave for the same patches (checkStructure() tells
+    // whether the parts hold together).
+    HierarchicalTransport(const PatchMesh& mesh, HierarchicalParts parts);
 
     const char* kind() const override { return "hierarchical"; }
     uint32_t patchCount() const override { return links_.near.size; }
@@ -64,6 +76,7 @@ public:
 
     const ClusterTree& tree() const { return tree_; }
     const HierarchicalLinks& links() const { return links_; }
+    const std::vector<double>& farScale() const { return farScale_; }
     // The far links' part of G = T B (n x m, overwritten), rows capped as the near part.
     void farGather(std::span<const double> radiosity, std::size_t wavelengthCount,
                    std::span<double> gathered) const;
@@ -71,6 +84,8 @@ public:
 private:
     ClusterTree tree_;
     HierarchicalLinks links_;
+    // The per-node arrays and the split of the far links that the gather reads.
+    void prepareGather();
     // Per node: its normal when it is planar (every leaf is), else zero.
     bool isPlanar(std::size_t node) const { return orientation_[node] != Vec3d{}; }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <future>
 #include <mutex>
 #include <new>
@@ -17,6 +18,7 @@
 #include "geometry/auto_patch_size.h"
 #include "hierarchical/hierarchical_transport.h"
 #include "pipeline/backend_registry.h"
+#include "pipeline/links_cache.h"
 #include "pipeline/vertex_radiance.h"
 #include "radiosity/exposed_system.h"
 #include "radiosity/matrix_transport.h"
@@ -339,8 +341,8 @@ FormFactorKey Session::formFactorKey() const {
     if (s.resolvedBackend.empty()) s.resolvedBackend = resolveBackendName(s.settings.backend);
     std::string family = backendFamily(s.resolvedBackend);
     if (s.settings.transport == TransportKind::Hierarchical) {
-        // The links also depend on E and M (the oracle's weights): the solution cache's key
-        // adds them; the links themselves are not cached.
+        // The links also depend on E and M (the oracle's weights): the links' and the
+        // solution cache's keys add them.
         const HierarchySettings& h = s.settings.hierarchy;
         family = concat(family, " hierarchical ", h.linkTolerance, " ", h.farRays, " ",
                         h.maxAperture, " ", h.visibilityShare);
@@ -349,11 +351,23 @@ FormFactorKey Session::formFactorKey() const {
     return *s.formFactorKey;
 }
 
+std::filesystem::path Session::formFactorsCachePath() const {
+    const auto& dir = state_->settings.cacheDirectory;
+    if (!dir) return {};
+    if (state_->settings.transport == TransportKind::Hierarchical) {
+        return LinksCache(*dir).entryPath(linksKey(formFactorKey(), state_->system));
+    }
+    return FormFactorCache(*dir).entryPath(formFactorKey());
+}
+
 bool Session::formFactorsCached() const {
-    if (state_->settings.transport == TransportKind::Hierarchical) return false;
     finishCacheWrite();
     const auto& dir = state_->settings.cacheDirectory;
-    return dir && FormFactorCache(*dir).contains(formFactorKey());
+    if (!dir) return false;
+    if (state_->settings.transport == TransportKind::Hierarchical) {
+        return std::filesystem::exists(formFactorsCachePath());
+    }
+    return FormFactorCache(*dir).contains(formFactorKey());
 }
 
 Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel,
@@ -481,12 +495,44 @@ Expected<FormFactorReport> Session::buildHierarchical(const std::string& backend
                             " patches, more than --max-memory ",
                             formatBytes(double(s.settings.maxMemoryBytes)), "; ", memoryAdvice())};
     }
+    FormFactorReport report;
+    std::optional<LinksCache> cache;
+    LinksKey key;
+    if (s.settings.cacheDirectory) {
+        cache.emplace(*s.settings.cacheDirectory, s.settings.cacheSizeBytes);
+        key = linksKey(formFactorKey(), s.system);
+        report.cachePath = cache->entryPath(key).string();
+        LinksLookup lookup = [&] {
+            const std::lock_guard lock(cacheStoreMutex());
+            return cache->load(key, s.patches, s.settings.maxMemoryBytes);
+        }();
+        if (lookup.status == LinksLookup::Status::Hit) {
+            report.fromCache = true;
+            report.backendName = "cache";
+            report.stats.patches = s.patches.patchCount();
+            report.stats.nonzeros = lookup.transport->links().stats.nearEntries;
+            report.seconds = timer.seconds();
+            s.stageLine(concat("view factors: hierarchical: ",
+                               formatCount(lookup.transport->links().stats.farLinks),
+                               " far links and ",
+                               formatCount(lookup.transport->links().stats.nearEntries),
+                               " near factors from the cache ", report.cachePath, " in ",
+                               formatDuration(report.seconds)));
+            s.transport = std::move(lookup.transport);
+            s.exposedReady = false;
+            s.timings.viewFactorSeconds = report.seconds;
+            return report;
+        }
+        if (lookup.status == LinksLookup::Status::Rejected) {
+            report.cacheWarning = lookup.message;
+            logWarning(lookup.message);
+        }
+    }
     FormFactorSettings settings = formFactorSettingsOf(s.settings, cancel, {});
     auto built = buildHierarchicalTransport(s.patches, s.system, s.settings.hierarchy, settings);
     if (!built) return withContext(built.error(), s.scenePath());
     ++s.builds;
     const LinkStats& stats = (*built)->links().stats;
-    FormFactorReport report;
     report.backendName = "cpu";
     report.stats.patches = s.patches.patchCount();
     report.stats.raysCast = stats.raysCast;
@@ -506,6 +552,14 @@ Expected<FormFactorReport> Session::buildHierarchical(const std::string& backend
     s.transport = *built;
     s.exposedReady = false;
     s.timings.viewFactorSeconds = report.seconds;
+    if (cache) {
+        // As F's: the solve only reads the links, so it need not wait for the write.
+        s.cacheWrite =
+            std::async(std::launch::async, [cache = std::move(*cache), key, transport = *built] {
+                const std::lock_guard lock(cacheStoreMutex());
+                return cache.store(key, *transport);
+            });
+    }
     return report;
 }
 

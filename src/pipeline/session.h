@@ -158,7 +158,10 @@ public:
     MatrixEstimate matrixEstimate() const;
     // The cache key of F for these patches and settings (pipeline/formfactor_cache.h).
     FormFactorKey formFactorKey() const;
-    // True when the disk cache holds F for this key (a header check, no read).
+    // The disk cache's entry that buildFormFactors reads: F's, or with the hierarchical
+    // transport the links' (pipeline/links_cache.h); empty without a cache folder.
+    std::filesystem::path formFactorsCachePath() const;
+    // True when the disk cache holds that entry (F: a header check; links: the file exists).
     bool formFactorsCached() const;
     // Makes F available: from memory (no work), the disk cache, or the backend (then stored in
     // the cache by a background task, so the solve need not wait for the write: a failed store

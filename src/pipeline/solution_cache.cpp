@@ -37,12 +37,7 @@ void hashValues(Fnv1a128& hash, const std::vector<T>& values) {
 
 }  // namespace
 
-SolutionKey solutionKey(const FormFactorKey& formFactors, const RadiositySystem& system,
-                        const SolverSettings& solver) {
-    Fnv1a128 hash;
-    hash.updateU64(kSolutionCacheVersion);
-    hash.updateU64(formFactors.hi);
-    hash.updateU64(formFactors.lo);
+void hashRadiositySystem(Fnv1a128& hash, const RadiositySystem& system) {
     hash.updateU64(system.patchCount);
     hash.updateU64(system.wavelengthCount);
     hashValues(hash, system.wavelengthsNm);
@@ -53,6 +48,15 @@ SolutionKey solutionKey(const FormFactorKey& formFactors, const RadiositySystem&
     hash.updateU64(system.operators.size());
     for (const MaterialOperator& op : system.operators)
         hashValues(hash, op.matrix.values);
+}
+
+SolutionKey solutionKey(const FormFactorKey& formFactors, const RadiositySystem& system,
+                        const SolverSettings& solver) {
+    Fnv1a128 hash;
+    hash.updateU64(kSolutionCacheVersion);
+    hash.updateU64(formFactors.hi);
+    hash.updateU64(formFactors.lo);
+    hashRadiositySystem(hash, system);
     hash.updateText(solverKindName(solver.kind));
     hash.updateU64(std::bit_cast<uint64_t>(solver.tolerance));
     hash.updateU64(static_cast<uint64_t>(int64_t{solver.maxIterations}));

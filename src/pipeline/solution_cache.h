@@ -35,6 +35,11 @@ using SolutionKey = Hash128;
 SolutionKey solutionKey(const FormFactorKey& formFactors, const RadiositySystem& system,
                         const SolverSettings& solver);
 
+// The system's part of that key: the patch and wavelength counts, the samples and bin widths,
+// E, the areas, every patch's operator index and every operator's re-radiation matrix (also
+// what the hierarchical links' oracle weighs: pipeline/links_cache.h).
+void hashRadiositySystem(Fnv1a128& hash, const RadiositySystem& system);
+
 // Stored with B: what the solve that produced it reported.
 struct SolutionStats {
     int32_t iterations = 0;

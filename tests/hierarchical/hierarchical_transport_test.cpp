@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "pipeline/session.h"
 #include "radiosity/solver_test_util.h"
@@ -192,6 +194,54 @@ SessionSettings cornellSettings(double maxEdge) {
     settings.formFactors.progress = false;
     settings.logStages = false;
     return settings;
+}
+
+// The disk cache of the links (pipeline/links_cache.h): a second session reads the transport
+// the first one built and stored, and solves to the same B bit for bit; a damaged entry is
+// refused with a warning naming it, and the links are built again.
+TEST(HierarchicalTransport, TheLinksCacheRestoresTheTransportExactly) {
+    const auto dir = test::testTempDir() / "cache";
+    SessionSettings settings = cornellSettings(0.1);
+    settings.transport = TransportKind::Hierarchical;
+    settings.cacheDirectory = dir;
+    std::vector<double> radiosity[2];
+    for (int k = 0; k < 2; ++k) {
+        auto session = Session::open(settings);
+        ASSERT_TRUE(session.ok()) << session.error().message;
+        auto report = session->buildFormFactors();
+        ASSERT_TRUE(report.ok()) << report.error().message;
+        EXPECT_EQ(report->fromCache, k == 1);
+        EXPECT_EQ(session->finishCacheWrite(), "");
+        EXPECT_TRUE(session->formFactorsCached());
+        EXPECT_EQ(session->transport().checkStructure(), "");
+        auto solved = session->transport().solve(session->system(), SolverSettings{});
+        ASSERT_TRUE(solved.ok()) << solved.error().message;
+        radiosity[k] = solved->radiosity;
+    }
+    EXPECT_EQ(radiosity[0], radiosity[1]);
+
+    std::filesystem::path entry;
+    for (const auto& file : std::filesystem::directory_iterator(dir)) {
+        if (file.path().extension() == ".dhl") entry = file.path();
+    }
+    ASSERT_FALSE(entry.empty());
+    {
+        std::fstream file(entry, std::ios::in | std::ios::out | std::ios::binary);
+        file.seekp(200);
+        file.put('\x5a');
+    }
+    auto session = Session::open(settings);
+    ASSERT_TRUE(session.ok());
+    auto report = session->buildFormFactors();
+    ASSERT_TRUE(report.ok()) << report.error().message;
+    EXPECT_FALSE(report->fromCache);
+    EXPECT_NE(report->cacheWarning.find(entry.filename().string()), std::string::npos)
+        << report->cacheWarning;
+    EXPECT_NE(report->cacheWarning.find("building the links"), std::string::npos)
+        << report->cacheWarning;
+    auto solved = session->transport().solve(session->system(), SolverSettings{});
+    ASSERT_TRUE(solved.ok());
+    EXPECT_EQ(solved->radiosity, radiosity[0]);
 }
 
 // Per patch: its near factors plus the far half-links of its leaf and of every ancestor (the
