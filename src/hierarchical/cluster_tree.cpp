@@ -43,7 +43,7 @@ public:
     // the left child is index + 1, the right child index + 2 * (left's count) (a subtree of k
     // leaves has 2 k - 1 nodes).
     void build(uint32_t index, uint32_t first, uint32_t count) {
-        ClusterNode& node = tree_.nodes[index];
+        HierarchyNode& node = tree_.nodes[index];
         node.first = first;
         node.count = count;
         if (count == 1) {
@@ -67,7 +67,7 @@ public:
 
 private:
     void makeLeaf(uint32_t index) {
-        ClusterNode& node = tree_.nodes[index];
+        HierarchyNode& node = tree_.nodes[index];
         const uint32_t patch = tree_.order[node.first];
         tree_.leafOf[patch] = index;
         Box box;
@@ -125,9 +125,9 @@ private:
     }
 
     void combine(uint32_t index) {
-        ClusterNode& node = tree_.nodes[index];
-        const ClusterNode& a = tree_.nodes[node.children[0]];
-        const ClusterNode& b = tree_.nodes[node.children[1]];
+        HierarchyNode& node = tree_.nodes[index];
+        const HierarchyNode& a = tree_.nodes[node.children[0]];
+        const HierarchyNode& b = tree_.nodes[node.children[1]];
         Box box = boxes_[node.children[0]];
         box.add(boxes_[node.children[1]]);
         boxes_[index] = box;
@@ -137,7 +137,7 @@ private:
         node.area = a.area + b.area;
         node.centroid = node.area > 0 ? (a.centroid * a.area + b.centroid * b.area) / node.area
                                       : (a.centroid + b.centroid) * 0.5;
-        for (const ClusterNode* child : {&a, &b}) {
+        for (const HierarchyNode* child : {&a, &b}) {
             const double share = node.area > 0 ? child->area / node.area : 0.5;
             for (int k = 0; k < 6; ++k)
                 node.spread[k] += share * child->spread[k];
@@ -156,7 +156,7 @@ private:
         }
         node.coneAxis = sum / norm;
         double halfAngle = 0;
-        for (const ClusterNode* child : {&a, &b}) {
+        for (const HierarchyNode* child : {&a, &b}) {
             const double between =
                 std::acos(std::clamp(dot(node.coneAxis, child->coneAxis), -1.0, 1.0));
             halfAngle =
@@ -186,7 +186,7 @@ private:
 }  // namespace
 
 std::size_t ClusterTree::bytes() const {
-    return nodes.size() * sizeof(ClusterNode) + (order.size() + leafOf.size()) * sizeof(uint32_t);
+    return nodes.size() * sizeof(HierarchyNode) + (order.size() + leafOf.size()) * sizeof(uint32_t);
 }
 
 ClusterTree buildClusterTree(const PatchMesh& mesh) {

@@ -28,7 +28,7 @@ namespace daisy {
 
 inline constexpr uint32_t kNoNode = 0xffffffffu;
 
-struct ClusterNode {
+struct HierarchyNode {
     uint32_t first = 0;  // the node's patches are order[first .. first + count)
     uint32_t count = 0;  // 1: a leaf (a patch)
     uint32_t children[2] = {kNoNode, kNoNode};
@@ -55,7 +55,7 @@ struct ClusterNode {
 };
 
 struct ClusterTree {
-    std::vector<ClusterNode> nodes;  // pre-order; nodes[0] is the root
+    std::vector<HierarchyNode> nodes;  // pre-order; nodes[0] is the root
     std::vector<uint32_t> order;  // patch indices, each node's a contiguous range
     std::vector<uint32_t> leafOf;  // per patch: its leaf node
 

@@ -39,7 +39,7 @@ struct FarRecord {
 // alpha = a.u, beta = b.u (the Hessian of f at d u). Facing along u (a = b = u) it is
 // 1 + (5 u.Cu - 2 tr C) / d^2: parallel plates 4 apart, a unit and a 0.5 square, give
 // 1 - 2 (1/6 + 1/24) / 16. A node that is not planar has no one normal: the facing form then.
-double secondOrder(const ClusterNode& r, const ClusterNode& s, const Vec3d& u, double d) {
+double secondOrder(const HierarchyNode& r, const HierarchyNode& s, const Vec3d& u, double d) {
     double c[6];
     for (int k = 0; k < 6; ++k)
         c[k] = r.spread[k] + s.spread[k];
@@ -84,7 +84,7 @@ public:
         source_.assign(nodes, 0.0);
         yield_.assign(nodes, 0.0);
         for (std::size_t k = nodes; k-- > 0;) {
-            const ClusterNode& node = tree.nodes[k];
+            const HierarchyNode& node = tree.nodes[k];
             if (node.isLeaf()) {
                 const uint32_t patch = tree.order[node.first];
                 source_[k] = importance.source[patch];
@@ -109,8 +109,8 @@ public:
     // Decides one pair: a link (far or near), nothing, or up to three child pairs in `next`.
     void decide(Pair pair, Local& local, std::vector<Pair>& next) const {
         ++local.stats.candidates;
-        const ClusterNode& r = tree_.nodes[pair.r];
-        const ClusterNode& s = tree_.nodes[pair.s];
+        const HierarchyNode& r = tree_.nodes[pair.r];
+        const HierarchyNode& s = tree_.nodes[pair.s];
         if (pair.r == pair.s) {
             if (r.isLeaf()) return;  // a flat patch does not see itself
             const uint32_t a = r.children[0], b = r.children[1];
@@ -145,8 +145,8 @@ private:
     // The far link of a pair that passed the geometric tests: its visibility, then the link,
     // nothing (hidden), or false (partly visible and worth refining).
     bool far(Pair pair, double phi, Local& local) const {
-        const ClusterNode& r = tree_.nodes[pair.r];
-        const ClusterNode& s = tree_.nodes[pair.s];
+        const HierarchyNode& r = tree_.nodes[pair.r];
+        const HierarchyNode& s = tree_.nodes[pair.s];
         // A link whose partial visibility would not be refined needs only a rough V.
         const bool refinable = 0.5 * phi > visibilityEpsilon_;
         const int count = std::max(1, refinable ? hierarchy_.farRays : hierarchy_.farRays / 2);
@@ -184,7 +184,7 @@ private:
 
     // Point k of `count` on node `node`, area-uniform: the patch by stratified area, then a
     // uniform point on it (shared/sampling.h).
-    shared::vec3 samplePoint(const ClusterNode& node, int k, int count, uint32_t seed) const {
+    shared::vec3 samplePoint(const HierarchyNode& node, int k, int count, uint32_t seed) const {
         const double lo = prefixArea_[node.first], hi = prefixArea_[node.first + node.count];
         const double t = (k + shared::hashToUnitFloat(0, seed)) / count;
         const double target = lo + (hi - lo) * t;

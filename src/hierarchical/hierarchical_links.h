@@ -63,13 +63,13 @@ struct HierarchySettings {
 };
 
 // One half of a far link, stored under its receiving node. Its direction u is the unit vector
-// from the receiver's centroid to the source's (ClusterNode::centroid): farDirection.
+// from the receiver's centroid to the source's (HierarchyNode::centroid): farDirection.
 struct FarLink {
     uint32_t source = 0;  // node index
     float coupling = 0;  // K = V c / (pi r^2), scene units^-2
 };
 
-inline Vec3d farDirection(const ClusterNode& receiver, const ClusterNode& source) {
+inline Vec3d farDirection(const HierarchyNode& receiver, const HierarchyNode& source) {
     const Vec3d between = source.centroid - receiver.centroid;
     return between / length(between);
 }

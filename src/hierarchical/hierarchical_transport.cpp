@@ -67,7 +67,7 @@ void HierarchicalTransport::prepareGather() {
     centroids_.resize(nodes);
     slot_.assign(nodes + 1, 0);
     for (std::size_t k = 0; k < nodes; ++k) {
-        const ClusterNode& node = tree_.nodes[k];
+        const HierarchyNode& node = tree_.nodes[k];
         centroids_[k] = node.centroid;
         if (node.isLeaf()) {
             orientation_[k] = normals_[tree_.order[node.first]];
@@ -119,7 +119,7 @@ std::string HierarchicalTransport::checkStructure() const {
         return concat("the tree or the per-patch arrays do not match the ", n, " patches");
     }
     for (std::size_t k = 0; k < nodes; ++k) {
-        const ClusterNode& node = tree_.nodes[k];
+        const HierarchyNode& node = tree_.nodes[k];
         const bool inside = node.count >= 1 && node.first < n && node.count <= n - node.first;
         const bool leaf = inside && node.isLeaf() && tree_.order[node.first] < n;
         const bool inner = inside && !node.isLeaf() && node.children[0] > k &&
@@ -164,7 +164,7 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
     const auto at = [m](auto& values, std::size_t slot) { return values.data() + slot * m; };
     // Pull: children before parents. A planar node holds Q = sum A_j B_j (its P is n Q).
     for (std::size_t k = nodes; k-- > 0;) {
-        const ClusterNode& node = tree_.nodes[k];
+        const HierarchyNode& node = tree_.nodes[k];
         double* p = at(pull, slot_[k]);
         if (node.isLeaf()) {
             const uint32_t patch = tree_.order[node.first];
@@ -239,7 +239,7 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
     // Push: parents before children, a planar child taking n . J of a vector parent; each
     // patch's leaf holds its irradiance.
     for (std::size_t k = 0; k < nodes; ++k) {
-        const ClusterNode& node = tree_.nodes[k];
+        const HierarchyNode& node = tree_.nodes[k];
         const double* j = at(push, slot_[k]);
         if (node.isLeaf()) {
             const uint32_t patch = tree_.order[node.first];
@@ -435,7 +435,7 @@ HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengt
     const uint64_t nodes = n > 0 ? 2 * n - 1 : 0;
     estimate.bytes = sparseMatrixBytes(n, estimate.nearEntries) +
         2 * estimate.farLinks * (sizeof(FarLink) + sizeof(uint32_t) + sizeof(float)) +
-        nodes * (sizeof(ClusterNode) + 8 + 2 * sizeof(Vec3d) + 2 * 8) +
+        nodes * (sizeof(HierarchyNode) + 8 + 2 * sizeof(Vec3d) + 2 * 8) +
         n * (sizeof(Vec3d) + 2 * sizeof(double) + 8) + 2 * nodes * 3 * wavelengthCount * 8;
     return estimate;
 }

@@ -92,7 +92,7 @@ private:
     std::vector<Vec3d> normals_;  // per patch
     std::vector<double> areas_;  // per patch
     std::vector<Vec3d> orientation_;  // per node: see isPlanar
-    std::vector<Vec3d> centroids_;  // per node: ClusterNode::centroid, packed for the gather
+    std::vector<Vec3d> centroids_;  // per node: HierarchyNode::centroid, packed for the gather
     // The far half-links by receiver, split for the gather (farGather): between two planar
     // nodes, the source's slot and the weight -K (u . n_S) (u . n_R); the others' indices into
     // links_.far.

@@ -39,7 +39,7 @@ constexpr double kFacingMargin = 1e-6;
 
 // Whether every normal in the cone of `node` faces every direction within `spread` (radians) of
 // the unit direction u (+1), none does (-1), or some do (0).
-int facingCone(const ClusterNode& node, const Vec3d& u, double spread) {
+int facingCone(const HierarchyNode& node, const Vec3d& u, double spread) {
     if (node.coneCos <= -1) return 0;
     const double half = std::acos(std::clamp(node.coneCos, -1.0, 1.0)) + spread;
     const double axis = std::acos(std::clamp(dot(node.coneAxis, u), -1.0, 1.0));
@@ -50,7 +50,7 @@ int facingCone(const ClusterNode& node, const Vec3d& u, double spread) {
 
 // The range of n . x over the corners of node `s` (n a unit vector): exact from a planar node's
 // slab when n is its axis (either way round), else from its bounding box.
-std::pair<double, double> extentAlong(const ClusterNode& s, const Vec3d& n) {
+std::pair<double, double> extentAlong(const HierarchyNode& s, const Vec3d& n) {
     const double along = dot(n, s.coneAxis);
     const double thickness = s.slabHi - s.slabLo;  // also bounds the tilt's effect
     if (s.isPlanar() && along >= 1 - 1e-9) return {s.slabLo - thickness, s.slabHi + thickness};
@@ -69,7 +69,7 @@ std::pair<double, double> extentAlong(const ClusterNode& s, const Vec3d& n) {
 // alike, radiosity/patch_clusters.h). Between the two, S faces some of R's faces (a thick slab:
 // the undersides of shelves at several heights). Otherwise by R's normal cone against the
 // directions to S's bounding sphere.
-int facing(const ClusterNode& r, const ClusterNode& s) {
+int facing(const HierarchyNode& r, const HierarchyNode& s) {
     if (r.isPlanar()) {
         const double tolerance = 1e-7 * (r.radius + s.radius);
         const auto [lo, hi] = extentAlong(s, r.coneAxis);
@@ -86,13 +86,13 @@ int facing(const ClusterNode& r, const ClusterNode& s) {
 
 }  // namespace
 
-LinkChoice splitChoice(const ClusterNode& r, const ClusterNode& s) {
+LinkChoice splitChoice(const HierarchyNode& r, const HierarchyNode& s) {
     if (r.isLeaf() && s.isLeaf()) return LinkChoice::Near;
     return !r.isLeaf() && (s.isLeaf() || r.radius >= s.radius) ? LinkChoice::SplitReceiver
                                                                : LinkChoice::SplitSource;
 }
 
-LinkDecision chooseLink(const ClusterNode& r, const ClusterNode& s, const LinkWeights& weights,
+LinkDecision chooseLink(const HierarchyNode& r, const HierarchyNode& s, const LinkWeights& weights,
                         double epsilon, double maxAperture) {
     LinkDecision decision;
     const bool carries = weights.sourceS * weights.yieldR + weights.sourceR * weights.yieldS > 0;

@@ -62,10 +62,10 @@ struct LinkDecision {
 
 // When a pair is not linked: split the side with the larger bounding sphere (never a leaf), or
 // Near for two leaves.
-LinkChoice splitChoice(const ClusterNode& r, const ClusterNode& s);
+LinkChoice splitChoice(const HierarchyNode& r, const HierarchyNode& s);
 
 // epsilon: the largest error bound a far link may have (W); maxAperture: the largest rho / d.
-LinkDecision chooseLink(const ClusterNode& r, const ClusterNode& s, const LinkWeights& weights,
+LinkDecision chooseLink(const HierarchyNode& r, const HierarchyNode& s, const LinkWeights& weights,
                         double epsilon, double maxAperture);
 
 }  // namespace daisy

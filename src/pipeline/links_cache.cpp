@@ -22,7 +22,7 @@ struct LinksLayout {
 };
 
 static_assert(std::is_trivially_copyable_v<LinksLayout>, "the layout is stored as raw bytes");
-static_assert(std::is_trivially_copyable_v<ClusterNode>, "nodes are stored as raw bytes");
+static_assert(std::is_trivially_copyable_v<HierarchyNode>, "nodes are stored as raw bytes");
 static_assert(std::is_trivially_copyable_v<FarLink>, "far links are stored as raw bytes");
 
 const CacheFileFormat kFormat{
@@ -37,7 +37,7 @@ bool arrayBytes(const LinksLayout& layout, uint64_t& bytes) {
         layout.farHalfLinks > (1ull << 40)) {
         return false;
     }
-    bytes = nodes * sizeof(ClusterNode) + 2 * n * sizeof(uint32_t) + (n + 1) * sizeof(uint64_t) +
+    bytes = nodes * sizeof(HierarchyNode) + 2 * n * sizeof(uint32_t) + (n + 1) * sizeof(uint64_t) +
         layout.nearEntries * (sizeof(uint32_t) + sizeof(float)) + (nodes + 1) * sizeof(uint64_t) +
         layout.farHalfLinks * sizeof(FarLink) + 2 * n * sizeof(double);
     return true;
@@ -91,9 +91,9 @@ LinksLookup LinksCache::load(const LinksKey& key, const PatchMesh& mesh,
         return reject(reader.problem(), reader.removable());
     }
     const CacheFileHeader& header = reader.header();
-    if (header.detail != sizeof(ClusterNode)) {
+    if (header.detail != sizeof(HierarchyNode)) {
         return reject(concat("tree nodes of ", header.detail, " bytes, this build's are ",
-                             sizeof(ClusterNode), " (written by a different build)"));
+                             sizeof(HierarchyNode), " (written by a different build)"));
     }
     LinksLayout layout;
     if (!reader.read(&layout, sizeof(layout))) return reject(reader.finish());
@@ -161,7 +161,7 @@ std::string LinksCache::store(const LinksKey& key, const HierarchicalTransport& 
     CacheFileHeader header;
     header.magic = kFormat.magic;
     header.version = kFormat.version;
-    header.detail = sizeof(ClusterNode);
+    header.detail = sizeof(HierarchyNode);
     header.key = key;
     header.counts = {layout.patches, layout.farHalfLinks};
     const std::span<const std::byte> payload[] = {bytesOf(layout),

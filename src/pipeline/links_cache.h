@@ -3,7 +3,7 @@
 // same folder: the cluster tree, the near and far links and the row caps' scales of a built
 // HierarchicalTransport, so that a second render or view of a scene skips the links' build.
 // An entry is one file "<key hex>.dhl" in the layout of core/cache_file.h (magic "DAISYH",
-// detail = sizeof(ClusterNode), counts = patch count and far half-link count), its payload
+// detail = sizeof(HierarchyNode), counts = patch count and far half-link count), its payload
 // LinksLayout, then the arrays in its order. Every entry is fully verified on load (sizes,
 // checksum, the restored transport's checkStructure) and rejected (then removed) when a check
 // fails; written atomically; the folder's size limit and eviction are F's (core/cache_folder.h).
@@ -19,7 +19,7 @@
 
 namespace daisy {
 
-// Bump when the key's byte stream, the file layout, ClusterNode, FarLink or LinkStats change.
+// Bump when the key's byte stream, the file layout, HierarchyNode, FarLink or LinkStats change.
 inline constexpr uint32_t kLinksCacheVersion = 1;
 
 using LinksKey = Hash128;

@@ -252,7 +252,7 @@ std::pair<double, uint64_t> linksPerPatch(const HierarchicalTransport& transport
     std::vector<uint64_t> inherited(tree.nodes.size(), 0);
     uint64_t most = 0, total = 0;
     for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
-        const ClusterNode& node = tree.nodes[k];
+        const HierarchyNode& node = tree.nodes[k];
         inherited[k] += links.farOffsets[k + 1] - links.farOffsets[k];
         if (!node.isLeaf()) {
             for (uint32_t child : node.children)
@@ -316,8 +316,14 @@ TEST(HierarchicalTransport, CornellBoxMatchesTheMatrixPath) {
         }
     }
     EXPECT_EQ(halves, 2 * links.stats.farLinks);
-    for (double rowSum : transport->rowSums())
-        ASSERT_LE(rowSum, 1.0 + 1e-3);
+    // The summed factors leaving each patch, as the gather applies them (B = 1), and as stored.
+    const std::vector<double> ones(n, 1.0);
+    std::vector<double> sums(n);
+    transport->gather(ones, 1, sums);
+    for (std::size_t i = 0; i < n; ++i) {
+        ASSERT_LE(sums[i], 1.0 + 1e-3) << "patch " << i;
+        ASSERT_NEAR(sums[i], transport->rowSums()[i], 1e-6) << "patch " << i;
+    }
 }
 
 // The same box at 920 and 3,656 patches (4x): the links reaching a patch grow slower than the

@@ -13,8 +13,8 @@ namespace {
 
 // A planar node of `count` patches: a square of side `side` at height z facing +z (up) or -z,
 // its corners' box, sphere and slab.
-ClusterNode square(double z, double side, bool up, uint32_t count = 2) {
-    ClusterNode node;
+HierarchyNode square(double z, double side, bool up, uint32_t count = 2) {
+    HierarchyNode node;
     node.count = count;
     node.boxLo = {0, 0, z};
     node.boxHi = {side, side, z};
@@ -31,7 +31,7 @@ ClusterNode square(double z, double side, bool up, uint32_t count = 2) {
 // gap = 10 - 2 / sqrt(2); the bound is Phi rho / d. A far link exactly when the bound is at
 // most epsilon; above it, the side with the larger share is split (equal shares: R).
 TEST(LinkOracle, AFarLinkExactlyWhenTheBoundIsUnderEpsilon) {
-    const ClusterNode r = square(0, 1, true), s = square(10, 1, false);
+    const HierarchyNode r = square(0, 1, true), s = square(10, 1, false);
     const LinkWeights weights{2, 0.5, 3, 0.25};
     const double rho = 2 / std::sqrt(2.0), gap = 10 - rho;
     const double power = (3 * 0.5 + 2 * 0.25) / (M_PI * gap * gap);
@@ -45,7 +45,7 @@ TEST(LinkOracle, AFarLinkExactlyWhenTheBoundIsUnderEpsilon) {
     // The aperture: rho / d = 0.141 passes 0.25 and fails 0.1, whatever epsilon.
     EXPECT_EQ(chooseLink(r, s, weights, 1e9, 0.1).choice, LinkChoice::SplitReceiver);
     // Leaves are split never: two leaves over the bound become a near link.
-    const ClusterNode leafR = square(0, 1, true, 1), leafS = square(10, 1, false, 1);
+    const HierarchyNode leafR = square(0, 1, true, 1), leafS = square(10, 1, false, 1);
     EXPECT_EQ(chooseLink(leafR, leafS, weights, bound * 0.5, 0.25).choice, LinkChoice::Near);
 }
 
@@ -55,10 +55,10 @@ TEST(LinkOracle, PairsFacingAwayOrCoplanarExchangeNothing) {
     const LinkWeights weights{1, 1, 1, 1};
     EXPECT_EQ(chooseLink(square(0, 1, true), square(10, 1, true), weights, 1e9, 0.25).choice,
               LinkChoice::None);
-    ClusterNode beside = square(0, 1, true);
+    HierarchyNode beside = square(0, 1, true);
     beside.boxLo.x += 3, beside.boxHi.x += 3, beside.center.x += 3, beside.centroid.x += 3;
     EXPECT_EQ(chooseLink(square(0, 1, true), beside, weights, 1e9, 0.25).choice, LinkChoice::None);
-    ClusterNode wall;  // x = 20, from z = 0 up to z = 1, facing -x (towards the square)
+    HierarchyNode wall;  // x = 20, from z = 0 up to z = 1, facing -x (towards the square)
     wall.count = 2;
     wall.boxLo = {20, 0, 0};
     wall.boxHi = {20, 1, 1};
@@ -77,12 +77,12 @@ TEST(LinkOracle, PairsFacingAwayOrCoplanarExchangeNothing) {
 // split, not dropped (it was dropped as "behind or within" the slab, losing up to 38% of some
 // patches' rows on the black-light box).
 TEST(LinkOracle, AThickSlabFacesWhatLiesBetweenItsFaces) {
-    ClusterNode shelves = square(1, 1, false);
+    HierarchyNode shelves = square(1, 1, false);
     shelves.boxHi.z = 3;
     shelves.center.z = shelves.centroid.z = 2;
     shelves.radius = std::sqrt(0.5 + 1.0);
     shelves.slabLo = -3, shelves.slabHi = -1;
-    ClusterNode wall;
+    HierarchyNode wall;
     wall.count = 2;
     wall.boxLo = {0.5, 0, 1.5};
     wall.boxHi = {0.5, 1, 2.5};
