@@ -288,4 +288,13 @@ Expected<void> writeCacheFile(const std::filesystem::path& path, const CacheFile
     });
 }
 
+std::string rejectCacheEntry(const std::filesystem::path& path, std::string_view what,
+                             std::string_view then, bool removeFile) {
+    if (removeFile) {
+        std::error_code ignored;
+        std::filesystem::remove(path, ignored);
+    }
+    return concat(path.string(), ": ", what, "; ", then);
+}
+
 }  // namespace daisy

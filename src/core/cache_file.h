@@ -151,6 +151,11 @@ private:
     std::unique_ptr<Xxh64> checksum_;
 };
 
+// The message of a rejected entry, "<path>: <what>; <then>" (then: what the caller does
+// instead), after removing the file when `removeFile` (it is known bad).
+std::string rejectCacheEntry(const std::filesystem::path& path, std::string_view what,
+                             std::string_view then, bool removeFile);
+
 // Bytes of an entry whose payload is `payload`.
 uint64_t cacheFileBytes(std::span<const std::span<const std::byte>> payload);
 

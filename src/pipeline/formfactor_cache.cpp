@@ -120,11 +120,7 @@ CacheLookup FormFactorCache::load(const FormFactorKey& key, uint64_t maxMemoryBy
     const auto reject = [&](const std::string& what, bool removeFile = true) {
         CacheLookup rejected;
         rejected.status = CacheLookup::Status::Rejected;
-        rejected.message = concat(path.string(), ": ", what, "; rebuilding");
-        if (removeFile) {
-            std::error_code ignored;
-            std::filesystem::remove(path, ignored);
-        }
+        rejected.message = rejectCacheEntry(path, what, "rebuilding", removeFile);
         return rejected;
     };
 

@@ -78,11 +78,7 @@ LinksLookup LinksCache::load(const LinksKey& key, const PatchMesh& mesh,
     const auto reject = [&](const std::string& what, bool removeFile = true) {
         LinksLookup rejected;
         rejected.status = LinksLookup::Status::Rejected;
-        rejected.message = concat(path.string(), ": ", what, "; building the links");
-        if (removeFile) {
-            std::error_code ignored;
-            std::filesystem::remove(path, ignored);
-        }
+        rejected.message = rejectCacheEntry(path, what, "building the links", removeFile);
         return rejected;
     };
     CacheFileReader reader = CacheFileReader::open(path, kFormat, key);

@@ -87,11 +87,7 @@ SolutionLookup SolutionCache::load(const SolutionKey& key, uint64_t patchCount,
     const auto reject = [&](const std::string& what, bool removeFile = true) {
         SolutionLookup rejected;
         rejected.status = SolutionLookup::Status::Rejected;
-        rejected.message = concat(path.string(), ": ", what, "; solving");
-        if (removeFile) {
-            std::error_code ignored;
-            std::filesystem::remove(path, ignored);
-        }
+        rejected.message = rejectCacheEntry(path, what, "solving", removeFile);
         return rejected;
     };
     CacheFileReader reader = CacheFileReader::open(path, kFormat, key);

@@ -27,6 +27,22 @@ HierarchyNode square(double z, double side, bool up, uint32_t count = 2) {
     return node;
 }
 
+// A planar node of 2 patches: the unit square in the plane x = `x` from z = `z` up to z + 1,
+// facing -x, its box, sphere and slab.
+HierarchyNode wallFacingMinusX(double x, double z) {
+    HierarchyNode wall;
+    wall.count = 2;
+    wall.boxLo = {x, 0, z};
+    wall.boxHi = {x, 1, z + 1};
+    wall.center = wall.centroid = {x, 0.5, z + 0.5};
+    wall.radius = std::sqrt(0.5);
+    wall.area = 1;
+    wall.coneAxis = {-1, 0, 0};
+    wall.coneCos = 1;
+    wall.slabLo = wall.slabHi = -x;
+    return wall;
+}
+
 // Two unit squares 10 apart, facing: Phi = C (s_S y_R + s_R y_S) with C = A_R A_S / (pi gap^2),
 // gap = 10 - 2 / sqrt(2); the bound is Phi rho / d. A far link exactly when the bound is at
 // most epsilon; above it, the side with the larger share is split (equal shares: R).
@@ -58,16 +74,7 @@ TEST(LinkOracle, PairsFacingAwayOrCoplanarExchangeNothing) {
     HierarchyNode beside = square(0, 1, true);
     beside.boxLo.x += 3, beside.boxHi.x += 3, beside.center.x += 3, beside.centroid.x += 3;
     EXPECT_EQ(chooseLink(square(0, 1, true), beside, weights, 1e9, 0.25).choice, LinkChoice::None);
-    HierarchyNode wall;  // x = 20, from z = 0 up to z = 1, facing -x (towards the square)
-    wall.count = 2;
-    wall.boxLo = {20, 0, 0};
-    wall.boxHi = {20, 1, 1};
-    wall.center = wall.centroid = {20, 0.5, 0.5};
-    wall.radius = std::sqrt(0.5);
-    wall.area = 1;
-    wall.coneAxis = {-1, 0, 0};
-    wall.coneCos = 1;
-    wall.slabLo = wall.slabHi = -20;
+    const HierarchyNode wall = wallFacingMinusX(20, 0);  // facing the square
     EXPECT_EQ(chooseLink(square(0, 1, true), wall, weights, 1e9, 0.25).choice, LinkChoice::Far);
 }
 
@@ -82,21 +89,12 @@ TEST(LinkOracle, AThickSlabFacesWhatLiesBetweenItsFaces) {
     shelves.center.z = shelves.centroid.z = 2;
     shelves.radius = std::sqrt(0.5 + 1.0);
     shelves.slabLo = -3, shelves.slabHi = -1;
-    HierarchyNode wall;
-    wall.count = 2;
-    wall.boxLo = {0.5, 0, 1.5};
-    wall.boxHi = {0.5, 1, 2.5};
-    wall.center = wall.centroid = {0.5, 0.5, 2};
-    wall.radius = std::sqrt(0.5);
-    wall.area = 1;
-    wall.coneAxis = {-1, 0, 0};
-    wall.coneCos = 1;
-    wall.slabLo = wall.slabHi = -0.5;
     const LinkWeights weights{1, 1, 1, 1};
-    EXPECT_EQ(chooseLink(shelves, wall, weights, 1e9, 0.25).choice, LinkChoice::SplitReceiver);
+    EXPECT_EQ(chooseLink(shelves, wallFacingMinusX(0.5, 1.5), weights, 1e9, 0.25).choice,
+              LinkChoice::SplitReceiver);
     // Wholly above the upper shelf's plane it is behind every face: nothing.
-    wall.boxLo.z += 2, wall.boxHi.z += 2, wall.center.z += 2, wall.centroid.z += 2;
-    EXPECT_EQ(chooseLink(shelves, wall, weights, 1e9, 0.25).choice, LinkChoice::None);
+    EXPECT_EQ(chooseLink(shelves, wallFacingMinusX(0.5, 3.5), weights, 1e9, 0.25).choice,
+              LinkChoice::None);
 }
 
 // Two samples, 550 nm (ybar ~ 1) and 365 nm (ybar ~ 0): a white material's yield is 1 and a
