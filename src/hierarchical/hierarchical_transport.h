@@ -12,7 +12,8 @@
 // A planar node (every patch normal n, cluster_tree.h) holds the scalar form instead, m values:
 // Q = sum A_j B_j (P = n Q) and n . J, which its patches receive unchanged. Most links join
 // two planar nodes and then cost one product a wavelength, like an entry of F.
-// Row sums: in a closed scene (no patch's kEnclosureRays cosine-distributed rays escape), a
+// Row sums: in a closed scene (of kEnclosureRays cosine rays from every patch, at most 1e-4
+// escape: hierarchical_transport.cpp, kOpenSceneShare), a
 // patch whose rays all land on the front of other patches is enclosed, and its factors must sum
 // to 1 (every ray leaving it lands on a patch): its far part is scaled so that the row sums to
 // exactly 1, which removes the far field's and the hidden links' share of error from the sum

@@ -51,8 +51,9 @@ TEST(TransportCli, HierarchicalRendersTheMatrixPathsPicture) {
 
 // The black-light box (the default scene: UV lamps under the ceiling, fluorescent posters on
 // the walls, shelves, blocks) at its 7,712 patches, both transports at 160 x 120: relative RMS
-// luminance within 4%. Measured 2.7%; 20% (15% too dark) when the oracle dropped pairs lying
-// between a thick slab's faces and refined partial visibility no finer than the far field.
+// luminance within 2.5%. Measured 1.5%; 20% (15% too dark) when the oracle dropped pairs lying
+// between a thick slab's faces and refined partial visibility no finer than the far field, 2.6%
+// while 3 escaping rays of 246,784 made the room count as open.
 TEST(TransportCli, HierarchicalRendersTheDefaultScenesPicture) {
     const auto dir = test::testTempDir();
     Image images[2];
@@ -81,7 +82,7 @@ TEST(TransportCli, HierarchicalRendersTheDefaultScenesPicture) {
         sum += luminance(images[0]);
     }
     ASSERT_GT(sum, 0);
-    EXPECT_LT(std::sqrt(sumSq / double(count)) / (sum / double(count)), 0.04);
+    EXPECT_LT(std::sqrt(sumSq / double(count)) / (sum / double(count)), 0.025);
 }
 
 // validate --transport hierarchical solves both transports and compares the patches: within the
