@@ -379,7 +379,7 @@ Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel,
         return report;
     }
     if (s.settings.transport == TransportKind::Hierarchical) {
-        return buildHierarchical(s.settings.backend, cancel);
+        return buildHierarchical(s.settings.backend, cancel, true);
     }
     Timer timer;
     std::optional<FormFactorCache> cache;
@@ -439,7 +439,7 @@ Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& 
                                                              const ProgressObserver& onProgress) {
     State& s = *state_;
     if (s.settings.transport == TransportKind::Hierarchical) {
-        return buildHierarchical(backendName, cancel);
+        return buildHierarchical(backendName, cancel, false);
     }
     Timer timer;
     const MatrixEstimate estimate = matrixEstimate();
@@ -477,7 +477,7 @@ Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& 
 }
 
 Expected<FormFactorReport> Session::buildHierarchical(const std::string& backendName,
-                                                      const CancelToken* cancel) {
+                                                      const CancelToken* cancel, bool useCache) {
     State& s = *state_;
     const std::string backend = resolveBackendName(backendName);
     if (backend != "cpu") {
@@ -498,7 +498,7 @@ Expected<FormFactorReport> Session::buildHierarchical(const std::string& backend
     FormFactorReport report;
     std::optional<LinksCache> cache;
     LinksKey key;
-    if (s.settings.cacheDirectory) {
+    if (useCache && s.settings.cacheDirectory) {
         cache.emplace(*s.settings.cacheDirectory, s.settings.cacheSizeBytes);
         key = linksKey(formFactorKey(), s.system);
         report.cachePath = cache->entryPath(key).string();

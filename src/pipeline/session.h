@@ -189,9 +189,11 @@ public:
     std::string memoryAdvice() const;
     // Uses `matrix` as F (a matrix computed elsewhere: tests, the stress suite's own drivers).
     void setFormFactors(SparseMatrix matrix);
-    // The hierarchical transport on `backend` (only cpu evaluates links so far); no disk cache.
+    // The hierarchical transport on `backend` (only cpu evaluates links so far); with
+    // `useCache` (buildFormFactors: not the uncached build) read from and stored in the disk
+    // cache's links entries (pipeline/links_cache.h).
     Expected<FormFactorReport> buildHierarchical(const std::string& backend,
-                                                 const CancelToken* cancel);
+                                                 const CancelToken* cancel, bool useCache);
 
     // ---- edits (F untouched) ----
     // Replaces material `index` and rebuilds E and M; the solution is kept as the warm start.
