@@ -75,8 +75,7 @@ public:
     Refiner(const PatchMesh& mesh, const ClusterTree& tree, const LinkImportance& importance,
             const HierarchySettings& hierarchy, const FormFactorSettings& settings,
             const RayCaster& rays)
-        : mesh_(mesh),
-          tree_(tree),
+        : tree_(tree),
           hierarchy_(hierarchy),
           rays_(rays),
           seed_(static_cast<uint32_t>(settings.seed ^ (settings.seed >> 32))) {
@@ -175,7 +174,7 @@ private:
             return true;
         }
         const double distance = length(s.centroid - r.centroid);
-        const Vec3d u = farDirection(r, s);
+        const Vec3d u = farDirection(r.centroid, s.centroid);
         const double coupling =
             double(open) / count * secondOrder(r, s, u, distance) / (M_PI * distance * distance);
         local.far.push_back({pair.r, pair.s, float(coupling)});
@@ -197,7 +196,6 @@ private:
             shared::vec2(shared::hashToUnitFloat(1, seed), shared::hashToUnitFloat(2, seed)));
     }
 
-    const PatchMesh& mesh_;
     const ClusterTree& tree_;
     const HierarchySettings& hierarchy_;
     const RayCaster& rays_;

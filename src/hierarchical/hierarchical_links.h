@@ -69,8 +69,8 @@ struct FarLink {
     float coupling = 0;  // K = V c / (pi r^2), scene units^-2
 };
 
-inline Vec3d farDirection(const HierarchyNode& receiver, const HierarchyNode& source) {
-    const Vec3d between = source.centroid - receiver.centroid;
+inline Vec3d farDirection(const Vec3d& receiverCentroid, const Vec3d& sourceCentroid) {
+    const Vec3d between = sourceCentroid - receiverCentroid;
     return between / length(between);
 }
 

@@ -85,7 +85,7 @@ void HierarchicalTransport::prepareGather() {
         for (uint64_t e = links_.farOffsets[k]; e < links_.farOffsets[k + 1]; ++e) {
             const FarLink& link = links_.far[e];
             if (isPlanar(k) && isPlanar(link.source)) {
-                const Vec3d u = farDirection(tree_.nodes[k], tree_.nodes[link.source]);
+                const Vec3d u = farDirection(centroids_[k], centroids_[link.source]);
                 planarSlots_.push_back(uint32_t(slot_[link.source]));
                 planarWeights_.push_back(
                     float(-double(link.coupling) * dot(u, orientation_[link.source]) *
@@ -213,8 +213,7 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
                 for (uint64_t o = otherOffsets_[k]; o < otherOffsets_[k + 1]; ++o) {
                     const FarLink& link = links_.far[otherLinks_[o]];
                     const double* __restrict p = at(pull, slot_[link.source]);
-                    const Vec3d between = centroids_[link.source] - centroids_[k];
-                    const Vec3d u = between / length(between);  // farDirection
+                    const Vec3d u = farDirection(centroids_[k], centroids_[link.source]);
                     const double coupling = link.coupling;
                     if (isPlanar(link.source)) {
                         const double w = -coupling * dot(u, orientation_[link.source]);
