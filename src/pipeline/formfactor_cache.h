@@ -23,8 +23,9 @@ namespace daisy {
 // Bump when the key's byte stream, the file layout or FormFactorStats' field meaning changes:
 // older entries then miss (different key) or are rejected (different version in the header).
 // 2: per-pair end clearance; 3: kernel-weighted visibility; 4: the cpu backend's watertight
-// segments; 5: the cost model's fixed prices (its stats, and its choices: F).
-inline constexpr uint32_t kFormFactorCacheVersion = 5;
+// segments; 5: the cost model's fixed prices (its stats, and its choices: F); 6: the hybrid
+// kernel's absolute tolerance (DAISY_FF_ABS_TOL).
+inline constexpr uint32_t kFormFactorCacheVersion = 6;
 
 // 128-bit key of exactly what F depends on, and nothing else (hex() names the file).
 using FormFactorKey = Hash128;

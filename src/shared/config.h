@@ -28,6 +28,12 @@
 // Hybrid refinement stops when the summed error estimate of the adaptive cells is below this
 // fraction of F_ij (measured errors of near pairs stay below ~4e-4; see formfactor_test.cpp).
 #define DAISY_FF_REL_TOL 3.0e-4f
+// ... or below this absolute amount (a fraction of A_i, like F_ij): the float resolution of the
+// point factors the estimate compares (about 1e-7 for values near 1). A pair whose F_ij is
+// itself at that level (patches coplanar only to an exporter's rounding) otherwise refines to
+// the cell cap without ever meeting the relative rule: 300 point factors a pair instead of 20
+// on the Blender-style Cornell box.
+#define DAISY_FF_ABS_TOL 1.0e-7f
 // Deepest cell, in levels below the patch: 4^-12 of its area, where float positions run out.
 #define DAISY_FF_MAX_DEPTH 12
 // Capacity of the hybrid's explicit cell list (no recursion in the dialect): 128 cells of 28 bytes

@@ -6,6 +6,7 @@
 // Results and the commands are recorded in docs/performance.md.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <random>
@@ -94,6 +95,51 @@ BENCHMARK(BM_PairFactors)
     ->Args({DAISY_METHOD_HYBRID, 0})
     ->Args({DAISY_METHOD_HYBRID, 1})
     ->Args({DAISY_METHOD_HYBRID, 2});
+
+// Close pairs (centroids under twice the sum of the patches' radii apart, facing each other) of
+// the Blender-style Cornell box, whose planes are flat only to the exporter's rounding: many are
+// neighbours on one wall with F_ij near 1e-8, far under the hybrid rule's relative tolerance, which
+// only DAISY_FF_ABS_TOL stops short of the cell cap.
+void BM_PairFactorsBlenderClose(benchmark::State& state) {
+    static const std::vector<std::pair<PatchGeometry, PatchGeometry>> pairs = [] {
+        const std::string source = __FILE__;
+        const std::string root = source.substr(0, source.rfind("/tests/bench/"));
+        auto loaded = loadScene(root + "/assets/scenes/formfactor_family/blender_cornell.gltf");
+        if (!loaded) std::abort();
+        const PatchMesh mesh = std::move(*buildPatchMesh(loaded->mesh, 0));
+        std::vector<PatchGeometry> geometry;
+        std::vector<float> radius;
+        for (std::size_t p = 0; p < mesh.patchCount(); ++p) {
+            vec3 c[3];
+            for (int k = 0; k < 3; ++k) {
+                const Vec3d& v = mesh.positions[mesh.patches[p][k]];
+                c[k] = vec3(float(v.x), float(v.y), float(v.z));
+            }
+            geometry.push_back(shared::makePatchGeometry(c[0], c[1], c[2]));
+            const vec3 m = (c[0] + c[1] + c[2]) * (1.0f / 3.0f);
+            radius.push_back(std::max({length(c[0] - m), length(c[1] - m), length(c[2] - m)}));
+        }
+        std::vector<std::pair<PatchGeometry, PatchGeometry>> close;
+        for (std::size_t i = 0; i < geometry.size() && close.size() < 4096; i += 7) {
+            for (std::size_t j = 0; j < geometry.size(); ++j) {
+                const vec3 between =
+                    shared::patchCentroid(geometry[j]) - shared::patchCentroid(geometry[i]);
+                if (i != j && length(between) < 2 * (radius[i] + radius[j]) &&
+                    !shared::facingAway(geometry[i], geometry[j]))
+                    close.push_back({geometry[i], geometry[j]});
+            }
+        }
+        return close;
+    }();
+    std::size_t k = 0;
+    for (auto _ : state) {
+        const auto& [i, j] = pairs[k++ % pairs.size()];
+        benchmark::DoNotOptimize(shared::pairFactors(DAISY_METHOD_HYBRID, 1, i, j));
+    }
+    state.counters["pairs/s"] =
+        benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_PairFactorsBlenderClose);
 
 // The driver's batched form: all 16 trimmed segments of a pair at once (per segment).
 void BM_ShadowSegments16(benchmark::State& state) {
