@@ -65,12 +65,14 @@ void printVerboseStats(const FormFactorStats& s) {
                       " slots"));
 }
 
-int runFormFactors(const CommonOptions& options, const ExportOptions& exports) {
-    if (options.transport != "matrix") {
+int runFormFactors(const CommonOptions& given, const ExportOptions& exports) {
+    if (given.transport == "hierarchical") {
         logError(concat("daisy formfactors writes the matrix F, which --transport ",
-                        options.transport, " does not hold: use render, solve or info"));
+                        given.transport, " does not hold: use render, solve or info"));
         return 2;
     }
+    CommonOptions options = given;
+    options.transport = "matrix";  // what `auto` means here: the command writes F
     auto reserved = reserveOutputs({exports.matrixPath, exports.patchesPath});
     if (!reserved) {
         logError(reserved.error().message);

@@ -56,6 +56,28 @@ std::string lightList(const Scene& scene) {
 
 // "vulkan: device 'NAME' (cpu); shadow rays: ray queries (VK_KHR_ray_query)": the backend F
 // would be built with, made here to ask (a GPU backend opens its device), or why it cannot run.
+// The transport the session took and, for `auto`, why (pipeline/session.h: chooseTransport).
+std::string transportLine(const CommonOptions& options, const SessionSettings& settings,
+                          uint64_t matrixBytes) {
+    const std::string name = transportKindName(settings.transport);
+    if (options.transport != "auto") return name;
+    const std::string bytes = formatBytes(static_cast<double>(matrixBytes));
+    if (settings.transport == TransportKind::Matrix) {
+        return concat(name,
+                      options.backend != "auto" && options.backend != "cpu"
+                          ? " (auto: only the cpu backend evaluates links)"
+                          : concat(" (auto: the matrix F, ~", bytes, ", is under ",
+                                   formatBytes(double(kAutoHierarchicalMatrixBytes)),
+                                   " and fits --max-memory)"));
+    }
+    return concat(
+        name, " (auto: the matrix F would need ~", bytes,
+        matrixBytes > options.maxMemoryBytes
+            ? concat(", more than --max-memory ",
+                     formatBytes(static_cast<double>(options.maxMemoryBytes)), ")")
+            : concat(", ", formatBytes(double(kAutoHierarchicalMatrixBytes)), " or more)"));
+}
+
 std::string backendLine(const SessionSettings& settings) {
     const std::string name = resolveBackendName(settings.backend);
     auto backend = makeBackend(name, backendOptionsOf(settings));
@@ -109,14 +131,12 @@ int runInfo(const CommonOptions& options) {
                     formatBytes(static_cast<double>(matrix.matrixBytes)), " as CSR"));
     const HierarchyEstimate hierarchy =
         estimateHierarchy(patches, session->system().wavelengthCount);
-    printRow(
-        "hierarchical",
-        concat(formatCount(patches.patchCount() > 0 ? 2 * patches.patchCount() - 1 : 0),
-               " nodes, ~", formatCount(hierarchy.nearEntries), " near factors and ~",
-               formatCount(hierarchy.farLinks), " far links, ",
-               formatBytes(static_cast<double>(hierarchy.bytes)),
-               " (estimate; --transport hierarchical",
-               session->settings().transport == TransportKind::Hierarchical ? ", chosen)" : ")"));
+    printRow("hierarchical",
+             concat(formatCount(patches.patchCount() > 0 ? 2 * patches.patchCount() - 1 : 0),
+                    " nodes, ~", formatCount(hierarchy.nearEntries), " near factors and ~",
+                    formatCount(hierarchy.farLinks), " far links, ",
+                    formatBytes(static_cast<double>(hierarchy.bytes)), " (estimate)"));
+    printRow("transport", transportLine(options, session->settings(), matrix.matrixBytes));
     printRow("backend", backendLine(session->settings()));
     const auto& cacheDirectory = session->settings().cacheDirectory;
     printRow(

@@ -83,9 +83,10 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
         ->capture_default_str();
     command
         .add_option("--transport", options.transport,
-                    "How light moves between patches: the all-pairs matrix F, or hierarchical "
-                    "links between clusters (docs/hierarchical.md)")
-        ->check(CLI::IsMember({"matrix", "hierarchical"}))
+                    "How light moves between patches: the all-pairs matrix F, hierarchical "
+                    "links between clusters, or auto: the links where F would need 1 GiB or "
+                    "more, or more than --max-memory (docs/hierarchical.md)")
+        ->check(CLI::IsMember({"auto", "matrix", "hierarchical"}))
         ->capture_default_str();
     command
         .add_option("--link-tolerance", options.linkTolerance,

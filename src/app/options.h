@@ -24,7 +24,7 @@ struct CommonOptions {
     std::string vulkanRays = "auto";  // --vulkan-rays: auto | query | software
     // The form-factor settings' names and defaults are the library's (radiosity/form_factors.h).
     std::string method = formFactorMethodName(FormFactorSettings{}.method);
-    std::string transport = "matrix";  // --transport: matrix | hierarchical
+    std::string transport = "auto";  // --transport: auto | matrix | hierarchical
     double linkTolerance = HierarchySettings{}.linkTolerance;  // --link-tolerance
     int quadratureLevel = FormFactorSettings{}.quadratureLevel;  // L: 4^L points per patch
     int raysPerPair = FormFactorSettings{}.raysPerPair;  // K shadow rays per pair; 0 = none

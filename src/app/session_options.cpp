@@ -15,8 +15,9 @@ SessionSettings sessionSettingsFrom(const CommonOptions& options, PatchSizeDefau
         : options.vulkanRays == "software"              ? VulkanRays::Software
                                                         : VulkanRays::Auto;  // CLI11 checked it
     parseFormFactorMethod(options.method, settings.formFactors.method);  // CLI11 checked it
-    settings.transport =
-        options.transport == "hierarchical" ? TransportKind::Hierarchical : TransportKind::Matrix;
+    settings.transport = options.transport == "hierarchical" ? TransportKind::Hierarchical
+        : options.transport == "matrix"                      ? TransportKind::Matrix
+                                                             : TransportKind::Auto;
     settings.hierarchy.linkTolerance = options.linkTolerance;
     settings.formFactors.quadratureLevel = options.quadratureLevel;
     settings.formFactors.raysPerPair = options.raysPerPair;

@@ -133,6 +133,7 @@ int runValidate(const CommonOptions& options, const ValidateOptions& validate) {
     // choice follows each backend's measured ray speed, so one backend would trace a pair the
     // other decides without rays, and the two answers differ where a segment grazes an edge.
     SessionSettings settings = sessionSettingsFrom(options, PatchSizeDefault::InputTriangles);
+    settings.transport = TransportKind::Matrix;  // entries to compare, whatever the scene's size
     settings.formFactors.costModel = false;
     auto session = Session::open(std::move(settings));
     if (!session) {

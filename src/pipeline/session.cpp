@@ -235,6 +235,14 @@ Expected<void> prepare(Session::State& s) {
     s.system = std::move(*system);
     s.fluorescentOperators = countFluorescent(s.system);
     s.timings.meshSeconds = timer.seconds();
+    if (s.settings.transport == TransportKind::Auto) {
+        const MatrixEstimate matrix = estimateMatrixMemory(s.patches);
+        s.settings.transport =
+            chooseTransport(matrix.matrixBytes, s.settings.maxMemoryBytes, s.settings.backend);
+        s.stageDetail(concat("transport: ", transportKindName(s.settings.transport),
+                             " (auto: the matrix F would need ~",
+                             formatBytes(static_cast<double>(matrix.matrixBytes)), ")"));
+    }
 
     const WavelengthSet& w = s.wavelengths;
     s.stageDetail(concat("wavelengths: ", w.name(), ", ", w.size(), " samples ",
@@ -331,21 +339,43 @@ MatrixEstimate Session::matrixEstimate() const {
     return estimateMatrixMemory(state_->patches);
 }
 
+namespace {
+
+// The backend that evaluates the links: only cpu can, so `auto` means cpu whatever GPU is here.
+std::string hierarchicalBackend(const std::string& requested) {
+    return requested == "auto" ? "cpu" : resolveBackendName(requested);
+}
+
+}  // namespace
+
 const char* transportKindName(TransportKind kind) {
-    return kind == TransportKind::Hierarchical ? "hierarchical" : "matrix";
+    return kind == TransportKind::Hierarchical ? "hierarchical"
+        : kind == TransportKind::Matrix        ? "matrix"
+                                               : "auto";
+}
+
+TransportKind chooseTransport(uint64_t matrixBytes, uint64_t maxMemoryBytes,
+                              const std::string& backend) {
+    if (backend != "auto" && backend != "cpu") return TransportKind::Matrix;
+    return matrixBytes >= kAutoHierarchicalMatrixBytes || matrixBytes > maxMemoryBytes
+        ? TransportKind::Hierarchical
+        : TransportKind::Matrix;
 }
 
 FormFactorKey Session::formFactorKey() const {
     State& s = *state_;
     if (s.formFactorKey) return *s.formFactorKey;
-    if (s.resolvedBackend.empty()) s.resolvedBackend = resolveBackendName(s.settings.backend);
-    std::string family = backendFamily(s.resolvedBackend);
+    std::string family;
     if (s.settings.transport == TransportKind::Hierarchical) {
+        family = backendFamily(hierarchicalBackend(s.settings.backend));
         // The links also depend on E and M (the oracle's weights): the links' and the
         // solution cache's keys add them.
         const HierarchySettings& h = s.settings.hierarchy;
         family = concat(family, " hierarchical ", h.linkTolerance, " ", h.farRays, " ",
                         h.maxAperture, " ", h.visibilityShare);
+    } else {
+        if (s.resolvedBackend.empty()) s.resolvedBackend = resolveBackendName(s.settings.backend);
+        family = backendFamily(s.resolvedBackend);
     }
     s.formFactorKey = daisy::formFactorKey(s.patches, s.settings.formFactors, family);
     return *s.formFactorKey;
@@ -479,7 +509,7 @@ Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& 
 Expected<FormFactorReport> Session::buildHierarchical(const std::string& backendName,
                                                       const CancelToken* cancel, bool useCache) {
     State& s = *state_;
-    const std::string backend = resolveBackendName(backendName);
+    const std::string backend = hierarchicalBackend(backendName);
     if (backend != "cpu") {
         return Error{concat("--transport hierarchical: the ", backend,
                             " backend cannot evaluate links yet; use --backend cpu")};

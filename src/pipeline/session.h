@@ -48,9 +48,21 @@ enum class PatchSizeDefault { InputTriangles, Automatic };
 
 // How light moves between patches (--transport): the all-pairs matrix F
 // (radiosity/matrix_transport.h), or links between nodes of a cluster hierarchy
-// (hierarchical/hierarchical_transport.h).
-enum class TransportKind { Matrix, Hierarchical };
+// (hierarchical/hierarchical_transport.h). Auto is decided when the session opens, from the
+// patches (chooseTransport); settings().transport is Matrix or Hierarchical after that.
+enum class TransportKind { Auto, Matrix, Hierarchical };
 const char* transportKindName(TransportKind kind);
+
+// From this estimated size of the matrix F on, `auto` takes the hierarchical transport: there
+// the matrix path costs over 20 s and 2 GB on two cores, and the hierarchy half the time and a
+// quarter of the memory with the picture within 1.5% (docs/hierarchical.md, "Which transport").
+inline constexpr uint64_t kAutoHierarchicalMatrixBytes = uint64_t(1) << 30;
+
+// What `auto` picks for a matrix F estimated at `matrixBytes`: the hierarchy from
+// kAutoHierarchicalMatrixBytes on or when F would not fit in maxMemoryBytes, but only where it
+// can run (backend `auto` or `cpu`: only the cpu backend evaluates links); the matrix otherwise.
+TransportKind chooseTransport(uint64_t matrixBytes, uint64_t maxMemoryBytes,
+                              const std::string& backend);
 
 struct SessionSettings {
     std::string scenePath;  // loaded by open(); named in messages

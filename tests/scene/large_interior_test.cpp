@@ -154,12 +154,24 @@ TEST(LargeInterior, InfoEstimatesTheMatrixAndAnAllPairsBuildIsRefusedInOneLine) 
     const auto dir = test::testTempDir();
     const auto path = dir / "interior.gltf";
     generate(5000, path);
-    const test::RunResult info = test::runDaisy("info '" + path.string() + "' --max-memory 64M");
+    const test::RunResult info =
+        test::runDaisy("info '" + path.string() + "' --max-memory 64M --transport matrix");
     EXPECT_EQ(info.status, 0) << info.output;
     // doubleSided: a back patch for each triangle.
     EXPECT_NE(info.output.find("patches        10,00"), std::string::npos) << info.output;
     EXPECT_NE(info.output.find("a form-factor build would be refused"), std::string::npos)
         << info.output;
+    // `auto` (the default) takes the links where F does not fit: F is ~150 MiB here.
+    const test::RunResult chosen = test::runDaisy("info '" + path.string() + "' --max-memory 64M");
+    EXPECT_EQ(chosen.status, 0) << chosen.output;
+    EXPECT_NE(chosen.output.find("transport      hierarchical (auto: the matrix F would need ~"),
+              std::string::npos)
+        << chosen.output;
+    EXPECT_NE(chosen.output.find(", more than --max-memory 64.0 MiB)"), std::string::npos)
+        << chosen.output;
+    const test::RunResult roomy = test::runDaisy("info '" + path.string() + "'");
+    EXPECT_NE(roomy.output.find("transport      matrix (auto: the matrix F, ~"), std::string::npos)
+        << roomy.output;
     const auto matrix = dir / "F.mtx";
     const test::RunResult build = test::runDaisy("formfactors '" + path.string() +
                                                  "' --max-memory 64M -o '" + matrix.string() + "'");
