@@ -54,8 +54,6 @@ std::string lightList(const Scene& scene) {
     return out;
 }
 
-// "vulkan: device 'NAME' (cpu); shadow rays: ray queries (VK_KHR_ray_query)": the backend F
-// would be built with, made here to ask (a GPU backend opens its device), or why it cannot run.
 // The transport the session took and, for `auto`, why (pipeline/session.h: chooseTransport).
 std::string transportLine(const CommonOptions& options, const SessionSettings& settings,
                           uint64_t matrixBytes) {
@@ -78,6 +76,8 @@ std::string transportLine(const CommonOptions& options, const SessionSettings& s
             : concat(", ", formatBytes(double(kAutoHierarchicalMatrixBytes)), " or more)"));
 }
 
+// "vulkan: device 'NAME' (cpu); shadow rays: ray queries (VK_KHR_ray_query)": the backend F
+// would be built with, made here to ask (a GPU backend opens its device), or why it cannot run.
 std::string backendLine(const SessionSettings& settings) {
     const std::string name = resolveBackendName(settings.backend);
     auto backend = makeBackend(name, backendOptionsOf(settings));
@@ -137,7 +137,10 @@ int runInfo(const CommonOptions& options) {
                     formatCount(hierarchy.farLinks), " far links, ",
                     formatBytes(static_cast<double>(hierarchy.bytes)), " (estimate)"));
     printRow("transport", transportLine(options, session->settings(), matrix.matrixBytes));
-    printRow("backend", backendLine(session->settings()));
+    SessionSettings evaluating = session->settings();
+    if (evaluating.transport == TransportKind::Hierarchical && evaluating.backend == "auto")
+        evaluating.backend = "cpu";  // only the cpu backend evaluates links
+    printRow("backend", backendLine(evaluating));
     const auto& cacheDirectory = session->settings().cacheDirectory;
     printRow(
         session->settings().transport == TransportKind::Hierarchical ? "cached links" : "cached F",
