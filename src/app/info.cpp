@@ -135,7 +135,9 @@ int runInfo(const CommonOptions& options) {
              concat(formatCount(patches.patchCount() > 0 ? 2 * patches.patchCount() - 1 : 0),
                     " nodes, ~", formatCount(hierarchy.nearEntries), " near factors and ~",
                     formatCount(hierarchy.farLinks), " far links, ",
-                    formatBytes(static_cast<double>(hierarchy.bytes)), " (estimate)"));
+                    formatBytes(static_cast<double>(hierarchy.bytes)), ", ",
+                    formatBytes(static_cast<double>(hierarchy.peakBytes)),
+                    " while building (estimate)"));
     printRow("transport", transportLine(options, session->settings(), matrix.matrixBytes));
     SessionSettings evaluating = session->settings();
     if (evaluating.transport == TransportKind::Hierarchical && evaluating.backend == "auto")
@@ -151,7 +153,7 @@ int runInfo(const CommonOptions& options) {
                      ", K ", options.raysPerPair, ", seed ", options.seed, " not in ",
                      cacheDirectory->string(), ")"));
     if (session->settings().transport == TransportKind::Hierarchical &&
-        hierarchy.bytes > options.maxMemoryBytes) {
+        hierarchy.peakBytes > options.maxMemoryBytes) {
         printRow(
             "",
             concat("over --max-memory ", formatBytes(static_cast<double>(options.maxMemoryBytes)),

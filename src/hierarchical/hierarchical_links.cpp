@@ -331,22 +331,32 @@ Expected<HierarchicalLinks> buildHierarchicalLinks(const PatchMesh& mesh, const 
                       });
     if (cancelled) return Error{kInterruptedMessage};
 
+    // Each thread's records are merged and freed one thread at a time, and the far records are
+    // freed once grouped, so that no more than one extra copy of either is ever held (the peak
+    // that estimateHierarchy charges).
+    std::size_t farCount = 0, nearCount = 0;
+    for (const Local& local : locals) {
+        farCount += local.far.size();
+        nearCount += local.near.size();
+    }
     std::vector<FarRecord> far;
     std::vector<shared::PairIndex> near;
+    far.reserve(farCount);
+    near.reserve(nearCount);
     for (Local& local : locals) {
         addStats(links.stats, local.stats);
         far.insert(far.end(), local.far.begin(), local.far.end());
         near.insert(near.end(), local.near.begin(), local.near.end());
+        std::vector<FarRecord>().swap(local.far);
+        std::vector<shared::PairIndex>().swap(local.near);
     }
-    tbb::parallel_sort(far.begin(), far.end(), [](const FarRecord& a, const FarRecord& b) {
-        return a.receiver < b.receiver || (a.receiver == b.receiver && a.source < b.source);
-    });
+    links.stats.farLinks = far.size();
+    groupFarLinks(far, tree.nodes.size(), links);  // each node's links sorted by source
+    std::vector<FarRecord>().swap(far);
     tbb::parallel_sort(near.begin(), near.end(),
                        [](const shared::PairIndex& a, const shared::PairIndex& b) {
                            return a.i < b.i || (a.i == b.i && a.j < b.j);
                        });
-    links.stats.farLinks = far.size();
-    groupFarLinks(far, tree.nodes.size(), links);
     links.stats.refineSeconds = timer.seconds();
 
     Timer nearTimer;

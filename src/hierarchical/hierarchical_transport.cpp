@@ -430,19 +430,29 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
 }  // namespace
 
 HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengthCount) {
-    // Per patch, above what was measured (docs/performance.md, "Hierarchical transport"): 194
-    // near factors and 258 far links on the default scene, 286 and 421 on the Blender-style
-    // box, 266 and 265 on the 30,012-triangle interior.
-    constexpr uint64_t kNearPerPatch = 320, kFarPerPatch = 480;
+    // Links per patch grow slowly with the patches (docs/performance.md, "Hierarchical
+    // transport"): on the interior generator near factors 266, 339, 421 and far links 265, 272,
+    // 369 at 60,024, 120,000 and 240,016 patches (about n^0.33 and n^0.24); 286 and 421 on the
+    // Blender-style box, 194 and 258 on the default scene. The estimate takes 1.2 times the
+    // interior's fit, and at least 320 and 480.
     const uint64_t n = mesh.patchCount();
+    const double scale = double(n) / 60024.0;
+    const double nearPerPatch = std::max(320.0, 1.2 * 266 * std::pow(scale, 0.33));
+    const double farPerPatch = std::max(480.0, 1.2 * 265 * std::pow(scale, 0.24));
     HierarchyEstimate estimate;
-    estimate.nearEntries = n * kNearPerPatch;
-    estimate.farLinks = n * kFarPerPatch;
+    estimate.nearEntries = static_cast<uint64_t>(double(n) * nearPerPatch);
+    estimate.farLinks = static_cast<uint64_t>(double(n) * farPerPatch);
     const uint64_t nodes = n > 0 ? 2 * n - 1 : 0;
-    estimate.bytes = sparseMatrixBytes(n, estimate.nearEntries) +
-        2 * estimate.farLinks * (sizeof(FarLink) + sizeof(uint32_t) + sizeof(float)) +
-        nodes * (sizeof(HierarchyNode) + 8 + 2 * sizeof(Vec3d) + 2 * 8) +
+    const uint64_t nodeBytes = nodes * (sizeof(HierarchyNode) + 8 + 2 * sizeof(Vec3d) + 2 * 8) +
         n * (sizeof(Vec3d) + 2 * sizeof(double) + 8) + 2 * nodes * 3 * wavelengthCount * 8;
+    estimate.bytes = sparseMatrixBytes(n, estimate.nearEntries) +
+        2 * estimate.farLinks * (sizeof(FarLink) + sizeof(uint32_t) + sizeof(float)) + nodeBytes;
+    // While the links are built, before the transport's own arrays exist, each thread's records
+    // (a grown vector holds up to twice them) sit beside their merged copy: 12 bytes a far
+    // record and 8 a near pair (about one a near factor), three times over. Measured peaks: 1.05,
+    // 2.13 and 5.53 GB at 60,024, 120,000 and 240,016 patches of the interior generator.
+    estimate.peakBytes = std::max(
+        estimate.bytes, nodeBytes + estimate.farLinks * 3 * 12 + estimate.nearEntries * 3 * 8);
     return estimate;
 }
 

@@ -111,12 +111,15 @@ private:
 };
 
 // What the transport will hold before it is built, for --max-memory and `daisy info`: the tree,
-// links at the rates measured on the Cornell box and the default scene (docs/hierarchical.md),
-// and a gather's work arrays (the pull and push values, 3 m doubles a node each).
+// links at the rates measured on the generator's interiors, the Blender-style box and the
+// default scene (growing slowly with the patches), and a gather's work arrays (the pull and
+// push values, 3 m doubles a node each); and what building it holds at its peak, which
+// --max-memory is checked against.
 struct HierarchyEstimate {
     uint64_t nearEntries = 0;
     uint64_t farLinks = 0;
-    uint64_t bytes = 0;
+    uint64_t bytes = 0;  // held by the built transport
+    uint64_t peakBytes = 0;  // while building: bytes plus the link records' copies
 };
 HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengthCount);
 

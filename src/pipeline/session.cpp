@@ -517,10 +517,11 @@ Expected<FormFactorReport> Session::buildHierarchical(const std::string& backend
     Timer timer;
     const HierarchyEstimate estimate = estimateHierarchy(s.patches, s.system.wavelengthCount);
     s.stageLine(concat("view factors: hierarchical over ", formatCount(s.patches.patchCount()),
-                       " patches, ~", formatBytes(double(estimate.bytes)), " (estimate)"));
-    if (estimate.bytes > s.settings.maxMemoryBytes) {
+                       " patches, ~", formatBytes(double(estimate.bytes)), " (~",
+                       formatBytes(double(estimate.peakBytes)), " while building; estimate)"));
+    if (estimate.peakBytes > s.settings.maxMemoryBytes) {
         return Error{concat(s.scenePath(), ": the hierarchical transport needs about ",
-                            formatBytes(double(estimate.bytes)), " for ",
+                            formatBytes(double(estimate.peakBytes)), " to build for ",
                             formatCount(s.patches.patchCount()),
                             " patches, more than --max-memory ",
                             formatBytes(double(s.settings.maxMemoryBytes)), "; ", memoryAdvice())};

@@ -121,5 +121,22 @@ TEST(TransportCli, BackendsWithoutLinksAndTheMatrixExportAreRefused) {
     EXPECT_FALSE(std::filesystem::exists(matrix));
 }
 
+// --max-memory is checked against what building the links holds at its peak, before any of it.
+TEST(TransportCli, LinksOverTheMemoryLimitAreRefusedBeforeTheBuild) {
+    const auto dir = test::testTempDir();
+    const std::string image = (dir / "out.png").string();
+    const RunResult refused =
+        runDaisy("render " + kCornellBox +
+                 " --transport hierarchical --no-cache --max-memory 40M -o " + image);
+    EXPECT_EQ(refused.status, 2) << refused.output;
+    EXPECT_NE(refused.output.find(": the hierarchical transport needs about "), std::string::npos)
+        << refused.output;
+    EXPECT_NE(refused.output.find(" to build for 3,"), std::string::npos) << refused.output;
+    EXPECT_NE(refused.output.find("more than --max-memory 40.0 MiB"), std::string::npos)
+        << refused.output;
+    EXPECT_EQ(refused.output.find("far links and"), std::string::npos) << refused.output;
+    EXPECT_FALSE(std::filesystem::exists(image));
+}
+
 }  // namespace
 }  // namespace daisy
