@@ -496,7 +496,8 @@ section_large() {
     # The large interior (tools/make_large_interior.py), generated into BUILD_DIR/scenes (too
     # large to commit), at each size and as Blender's own export of the largest (when blender is
     # installed): load and estimate with `daisy info`, then the all-pairs matrix where info says
-    # --max-memory refuses it, which must be a clean refusal (exit status 2, one line).
+    # --max-memory refuses it, which must be a clean refusal (exit status 2, one line). The
+    # matrix is named: `auto` would take the hierarchical links on these scenes.
     local dir="$build/scenes" n scene name
     local scenes=()
     for n in "${largeSizes[@]}"; do
@@ -515,7 +516,7 @@ section_large() {
     local -A verdict=()
     for scene in "${scenes[@]}"; do
         name=$(basename "${scene%.*}")
-        run "large-info-$name" env XDG_CACHE_HOME="$cache" "$daisy" info "$scene" "${largeArgs[@]}"
+        run "large-info-$name" env XDG_CACHE_HOME="$cache" "$daisy" info "$scene" --transport matrix "${largeArgs[@]}"
         verdict[$name]="fits under --max-memory: not built here (all pairs)"
         grep -q 'would be refused' "$work/large-info-$name.log" || continue
         local status=0
@@ -531,7 +532,7 @@ section_large() {
         fi
         verdict[$name]="**refused** in $(field "large-f-$name" 1) s (status 2): $(sed -n 's/.*needs about \([^,]*\) for .*, more than \(--max-memory [^;]*\);.*/\1, \2/p' "$work/large-f-$name.log")"
         # daisy bench reports the refusal as a row and keeps the path tracer's rows.
-        run "large-bench-$name" env XDG_CACHE_HOME="$cache" "$daisy" bench "$scene" --quick \
+        run "large-bench-$name" env XDG_CACHE_HOME="$cache" "$daisy" bench "$scene" --transport matrix --quick \
             "${largeArgs[@]}" -o "$work/large-bench-$name.csv"
         grep -q '^refused,' "$work/large-bench-$name.csv" || {
             echo "bench_all: daisy bench $(rel "$scene") --quick has no refused row" >&2
