@@ -449,8 +449,9 @@ HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengt
         2 * estimate.farLinks * (sizeof(FarLink) + sizeof(uint32_t) + sizeof(float)) + nodeBytes;
     // While the links are built, before the transport's own arrays exist, each thread's records
     // (a grown vector holds up to twice them) sit beside their merged copy: 12 bytes a far
-    // record and 8 a near pair (about one a near factor), three times over. Measured peaks: 1.05,
-    // 2.13 and 5.53 GB at 60,024, 120,000 and 240,016 patches of the interior generator.
+    // record and 8 a near pair (about one a near factor), three times over. Measured peaks of whole
+    // renders: 1.0, 2.0, 5.3 and 15.0 GiB at 60,024, 120,000, 240,016 and 500,004 patches of the
+    // interior generator, where this gives 1.6, 3.4, 7.4 and 17.7 GiB.
     estimate.peakBytes = std::max(
         estimate.bytes, nodeBytes + estimate.farLinks * 3 * 12 + estimate.nearEntries * 3 * 8);
     return estimate;

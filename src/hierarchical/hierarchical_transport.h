@@ -119,7 +119,7 @@ struct HierarchyEstimate {
     uint64_t nearEntries = 0;
     uint64_t farLinks = 0;
     uint64_t bytes = 0;  // held by the built transport
-    uint64_t peakBytes = 0;  // while building: bytes plus the link records' copies
+    uint64_t peakBytes = 0;  // the larger of bytes and the build's link records with their copies
 };
 HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengthCount);
 

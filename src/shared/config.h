@@ -31,8 +31,8 @@
 // ... or below this absolute amount (a fraction of A_i, like F_ij): the float resolution of the
 // point factors the estimate compares (about 1e-7 for values near 1). A pair whose F_ij is
 // itself at that level (patches coplanar only to an exporter's rounding) otherwise refines to
-// the cell cap without ever meeting the relative rule: 300 point factors a pair instead of 20
-// on the Blender-style Cornell box.
+// the cell cap without ever meeting the relative rule: 313 point factors a close pair instead of
+// 21 on the double-sided Blender-style Cornell box.
 #define DAISY_FF_ABS_TOL 1.0e-7f
 // Deepest cell, in levels below the patch: 4^-12 of its area, where float positions run out.
 #define DAISY_FF_MAX_DEPTH 12

@@ -97,7 +97,7 @@ BENCHMARK(BM_PairFactors)
     ->Args({DAISY_METHOD_HYBRID, 2});
 
 // Close pairs (centroids under twice the sum of the patches' radii apart, facing each other) of
-// the Blender-style Cornell box, whose planes are flat only to the exporter's rounding: many are
+// the Blender-style Cornell box, whose planes are flat only to the exporter's rounding: some are
 // neighbours on one wall with F_ij near 1e-8, far under the hybrid rule's relative tolerance, which
 // only DAISY_FF_ABS_TOL stops short of the cell cap.
 void BM_PairFactorsBlenderClose(benchmark::State& state) {
