@@ -53,10 +53,12 @@ enum class PatchSizeDefault { InputTriangles, Automatic };
 enum class TransportKind { Auto, Matrix, Hierarchical };
 const char* transportKindName(TransportKind kind);
 
-// From this estimated size of the matrix F on, `auto` takes the hierarchical transport: there
-// the matrix path costs over 20 s and 2 GB on two cores, and the hierarchy half the time and a
-// quarter of the memory with the picture within 1.5% (docs/hierarchical.md, "Which transport").
-inline constexpr uint64_t kAutoHierarchicalMatrixBytes = uint64_t(1) << 30;
+// From this estimated size of the matrix F on, `auto` takes the hierarchical transport: the
+// Blender-style Cornell boxes (F ~1006 MiB and 1.29 GiB) render in 0.42x and 0.54x the matrix
+// path's time and a fifth of its memory, their pictures within 0.2% and 1.5% of its; the
+// default scene (~307 MiB), where the hierarchy gains least (0.80x), keeps the matrix
+// (docs/hierarchical.md, "Which transport").
+inline constexpr uint64_t kAutoHierarchicalMatrixBytes = uint64_t(512) << 20;
 
 // What `auto` picks for a matrix F estimated at `matrixBytes`: the hierarchy from
 // kAutoHierarchicalMatrixBytes on or when F would not fit in maxMemoryBytes, but only where it
