@@ -45,22 +45,29 @@ struct PathRandom {
 // centroid, and 0 exactly where the triangle cannot light x (x behind its plane, or all of it
 // behind x's). By power alone, a point beside one of the black-light box's 176 tube triangles
 // drew the far ones as often and met the near ones' 1 / r^2 rarely: fireflies.
+// Scenes with many emitter triangles (an exporter's finely tessellated light: 5,184 on the
+// double-sided Blender-style Cornell box) pick in two steps so that a vertex costs O(sqrt N),
+// not O(N): the entries are ordered along a Morton curve and cut into groups of about sqrt N;
+// a group is drawn by the same estimate from its centroid, power and area (never 0, so every
+// entry that can light x keeps a chance), then an entry of the group by its own weight. With
+// at most kOneGroupEmitters entries there is one group, and the pick is the one-step pick.
+constexpr std::size_t kOneGroupEmitters = 256;
+
 struct EmitterTable {
     std::vector<uint32_t> patches;
     std::vector<double> power;  // per entry: sum_k E_k w_k times the area (W)
     std::vector<int> entryOf;  // per patch: its entry, or -1 for non-emitters
+    std::vector<std::size_t> groupStart;  // entries [groupStart[g], groupStart[g + 1])
+    std::vector<int> groupOf;  // per entry
+    std::vector<Vec3d> groupCentroid;  // power-weighted
+    std::vector<double> groupPower, groupArea;
 
-    // Fills `cdf` (size entries) with the running sum of weights at x (normal n); returns the
-    // total (0 when no emitter can light x).
-    double weights(const PatchMesh& mesh, const Vec3d& x, const Vec3d& n,
-                   std::vector<double>& cdf) const {
-        double total = 0;
-        for (std::size_t k = 0; k < patches.size(); ++k) {
-            total += weight(mesh, k, x, n);
-            cdf[k] = total;
-        }
-        return total;
-    }
+    // What one vertex drew: the entry and its probability, or none (total 0).
+    struct Pick {
+        std::size_t entry = 0;
+        double probability = 0;  // 0: nothing drawn (no entry of the group can light x)
+        double groupEntryTotal = 0;  // the drawn group's entry weights' total
+    };
 
     double weight(const PatchMesh& mesh, std::size_t k, const Vec3d& x, const Vec3d& n) const {
         const uint32_t q = patches[k];
@@ -74,28 +81,147 @@ struct EmitterTable {
         return power[k] / (dot(d, d) + mesh.areas[q]);
     }
 
-    // Entry for u in [0, 1) under the cdf `weights` filled (total > 0).
-    std::size_t pick(const std::vector<double>& cdf, double total, double u) const {
-        const auto it =
-            std::upper_bound(cdf.begin(), cdf.begin() + std::ptrdiff_t(patches.size()), u * total);
-        return std::min<std::size_t>(std::size_t(it - cdf.begin()), patches.size() - 1);
+    double groupWeight(std::size_t g, const Vec3d& x) const {
+        const Vec3d d = groupCentroid[g] - x;
+        return groupPower[g] / (dot(d, d) + groupArea[g]);
+    }
+
+    // Fills `cdf` with the running sum of group g's entry weights at x (normal n), at the
+    // entries' own indices; returns their total.
+    double entryWeights(const PatchMesh& mesh, std::size_t g, const Vec3d& x, const Vec3d& n,
+                        std::vector<double>& cdf) const {
+        double total = 0;
+        for (std::size_t k = groupStart[g]; k < groupStart[g + 1]; ++k) {
+            total += weight(mesh, k, x, n);
+            cdf[k] = total;
+        }
+        return total;
+    }
+
+    // Fills `groupCdf` with the running sum of the group weights at x (one group: 1).
+    double groupWeights(const Vec3d& x, std::vector<double>& groupCdf) const {
+        double total = 0;
+        for (std::size_t g = 0; g + 1 < groupStart.size(); ++g) {
+            total += groupStart.size() == 2 ? 1.0 : groupWeight(g, x);
+            groupCdf[g] = total;
+        }
+        return total;
+    }
+
+    // An entry for u in [0, 1) at x, and its probability; `cdf` and `groupCdf` are scratch.
+    Pick pick(const PatchMesh& mesh, const Vec3d& x, const Vec3d& n, double u,
+              std::vector<double>& cdf, std::vector<double>& groupCdf) const {
+        const std::size_t groups = groupStart.size() - 1;
+        const double groupTotal = groupWeights(x, groupCdf);
+        const auto g = std::min<std::size_t>(
+            std::size_t(std::upper_bound(groupCdf.begin(),
+                                         groupCdf.begin() + std::ptrdiff_t(groups),
+                                         u * groupTotal) -
+                        groupCdf.begin()),
+            groups - 1);
+        const double below = g == 0 ? 0.0 : groupCdf[g - 1];
+        const double groupShare = (groupCdf[g] - below) / groupTotal;
+        // u rescaled within the group's interval, for the entry.
+        const double v = groups == 1 ? u
+                                     : std::clamp((u * groupTotal - below) / (groupCdf[g] - below),
+                                                  0.0, std::nextafter(1.0, 0.0));
+        const double total = entryWeights(mesh, g, x, n, cdf);
+        Pick pick;
+        pick.groupEntryTotal = total;
+        if (!(total > 0)) return pick;
+        const std::size_t first = groupStart[g], last = groupStart[g + 1];
+        const auto it = std::upper_bound(cdf.begin() + std::ptrdiff_t(first),
+                                         cdf.begin() + std::ptrdiff_t(last), v * total);
+        pick.entry = std::min<std::size_t>(std::size_t(it - cdf.begin()), last - 1);
+        const double own = pick.entry == first ? cdf[first] : cdf[pick.entry] - cdf[pick.entry - 1];
+        pick.probability = groups == 1 ? own / total : groupShare * (own / total);
+        return pick;
+    }
+
+    // The probability that pick() at x draws `entry` (the indirect ray's MIS weight). With one
+    // group its entry total is the pick's there (`oneGroupTotal`), not summed again.
+    double probability(const PatchMesh& mesh, std::size_t entry, const Vec3d& x, const Vec3d& n,
+                       double oneGroupTotal, std::vector<double>& cdf,
+                       std::vector<double>& groupCdf) const {
+        if (groupStart.size() == 2)
+            return oneGroupTotal > 0 ? weight(mesh, entry, x, n) / oneGroupTotal : 0.0;
+        const auto g = std::size_t(groupOf[entry]);
+        const double total = entryWeights(mesh, g, x, n, cdf);
+        if (!(total > 0)) return 0;
+        const double groupTotal = groupWeights(x, groupCdf);
+        return groupWeight(g, x) / groupTotal * (weight(mesh, entry, x, n) / total);
     }
 };
 
 EmitterTable emitterTable(const PatchMesh& mesh, const RadiositySystem& system) {
     EmitterTable table;
     table.entryOf.assign(mesh.patchCount(), -1);
+    std::vector<uint32_t> emitting;
+    std::vector<double> power;
     for (uint32_t p = 0; p < mesh.patchCount(); ++p) {
         const double* e = system.emissionRow(p);
         double w = 0;
         for (std::size_t k = 0; k < system.wavelengthCount; ++k)
             w += e[k] * system.binWidthsNm[k];
         if (w > 0 && mesh.areas[p] > 0) {
-            table.entryOf[p] = int(table.patches.size());
-            table.patches.push_back(p);
-            table.power.push_back(w * mesh.areas[p]);
+            emitting.push_back(p);
+            power.push_back(w * mesh.areas[p]);
         }
     }
+    const std::size_t count = emitting.size();
+    std::vector<std::size_t> order(count);
+    for (std::size_t k = 0; k < count; ++k)
+        order[k] = k;
+    std::size_t groupSize = count;
+    if (count > kOneGroupEmitters) {
+        // Morton order of the centroids in the emitters' bounding box, 21 bits an axis.
+        Vec3d lo = mesh.centroids[emitting[0]], hi = lo;
+        for (const uint32_t p : emitting) {
+            const Vec3d& c = mesh.centroids[p];
+            lo = {std::min(lo.x, c.x), std::min(lo.y, c.y), std::min(lo.z, c.z)};
+            hi = {std::max(hi.x, c.x), std::max(hi.y, c.y), std::max(hi.z, c.z)};
+        }
+        const auto spread = [](uint64_t v) {
+            uint64_t r = 0;
+            for (int b = 0; b < 21; ++b)
+                r |= ((v >> b) & 1u) << (3 * b);
+            return r;
+        };
+        std::vector<uint64_t> code(count);
+        for (std::size_t k = 0; k < count; ++k) {
+            const Vec3d& c = mesh.centroids[emitting[k]];
+            uint64_t key = 0;
+            for (int axis = 0; axis < 3; ++axis) {
+                const double extent = hi[axis] - lo[axis];
+                const double t = extent > 0 ? (c[axis] - lo[axis]) / extent : 0.0;
+                key |= spread(uint64_t(std::clamp(t, 0.0, 1.0) * double((1u << 21) - 1))) << axis;
+            }
+            code[k] = key;
+        }
+        std::stable_sort(order.begin(), order.end(),
+                         [&](std::size_t a, std::size_t b) { return code[a] < code[b]; });
+        groupSize = std::size_t(std::ceil(std::sqrt(double(count))));
+    }
+    for (std::size_t k = 0; k < count; ++k) {
+        const uint32_t p = emitting[order[k]];
+        table.entryOf[p] = int(k);
+        table.patches.push_back(p);
+        table.power.push_back(power[order[k]]);
+        if (k % std::max<std::size_t>(groupSize, 1) == 0) {
+            table.groupStart.push_back(k);
+            table.groupCentroid.push_back({0, 0, 0});
+            table.groupPower.push_back(0);
+            table.groupArea.push_back(0);
+        }
+        const std::size_t g = table.groupStart.size() - 1;
+        table.groupOf.push_back(int(g));
+        table.groupCentroid[g] = table.groupCentroid[g] + mesh.centroids[p] * table.power.back();
+        table.groupPower[g] += table.power.back();
+        table.groupArea[g] += mesh.areas[p];
+    }
+    table.groupStart.push_back(count);
+    for (std::size_t g = 0; g < table.groupPower.size(); ++g)
+        table.groupCentroid[g] = table.groupCentroid[g] / table.groupPower[g];
     return table;
 }
 
@@ -200,7 +326,7 @@ struct Tracer {
     // returns whether it hit. `weight` and `next` are scratch of rows x m. Counts rays in `rays`.
     bool trace(const Ray& cameraRay, PathRandom& random, std::vector<double>& value,
                std::vector<double>& weight, std::vector<double>& next, std::vector<double>& cdf,
-               SegmentArrays& segment, uint64_t& rays) const {
+               std::vector<double>& groupCdf, SegmentArrays& segment, uint64_t& rays) const {
         const std::size_t m = system.wavelengthCount, rows = responses.rows;
         std::fill(value.begin(), value.end(), 0.0);
         weight = responses.initial;
@@ -233,10 +359,8 @@ struct Tracer {
                 // The indirect ray found an emitter: its share against next-event estimation
                 // of the same point (solid-angle densities of both techniques; the pick
                 // probability as the last vertex drew it).
-                const double pick = previousTotal > 0
-                    ? emitters.weight(mesh, std::size_t(entry), previousX, previousN) /
-                        previousTotal
-                    : 0.0;
+                const double pick = emitters.probability(mesh, std::size_t(entry), previousX,
+                                                         previousN, previousTotal, cdf, groupCdf);
                 const double cosY = -dot(dir, n);
                 const double lightPdf = pick / mesh.areas[p] * double(hit.t) * hit.t / cosY;
                 addEmission(weight, system.emissionRow(p),
@@ -262,14 +386,13 @@ struct Tracer {
             const Vec3d x = surface + n * offset;
 
             // Direct light: one emitter point, the emitter drawn by its weight at x.
-            const double lightTotal =
-                emitters.patches.empty() ? 0.0 : emitters.weights(mesh, x, n, cdf);
             const double uPick = random.next();
-            if (lightTotal > 0) {
-                const std::size_t entry = emitters.pick(cdf, lightTotal, uPick);
+            EmitterTable::Pick drawn;
+            if (!emitters.patches.empty()) drawn = emitters.pick(mesh, x, n, uPick, cdf, groupCdf);
+            if (drawn.probability > 0) {
+                const std::size_t entry = drawn.entry;
                 const uint32_t q = emitters.patches[entry];
-                const double pick =
-                    (entry == 0 ? cdf[0] : cdf[entry] - cdf[entry - 1]) / lightTotal;
+                const double pick = drawn.probability;
                 const auto& lc = mesh.patches[q];
                 double a = random.next(), b = random.next();
                 if (a + b > 1) a = 1 - a, b = 1 - b;
@@ -318,7 +441,7 @@ struct Tracer {
             previousCos = dot(n, direction);
             previousX = x;
             previousN = n;
-            previousTotal = lightTotal;
+            previousTotal = drawn.groupEntryTotal;
             ray = makeRay(x, direction);
             caster.closestSurfaceHits({&ray, 1}, {&hit, 1}, 0.0f);
             ++rays;
@@ -407,6 +530,7 @@ Expected<PathTraceResult> pathTrace(const Scene& scene, const WavelengthSet& set
         const std::size_t rowsCarried = responses.rows;
         std::vector<double> value(rowsCarried), weight(rowsCarried * m), next(rowsCarried * m);
         std::vector<double> sum(rowsCarried), cdf(emitters.patches.size());
+        std::vector<double> groupCdf(emitters.groupPower.size());
         SegmentArrays segment;
         segment.resize(1);
         uint64_t rays = 0;
@@ -426,7 +550,8 @@ Expected<PathTraceResult> pathTrace(const Scene& scene, const WavelengthSet& set
                     const auto [ox, oy] = stratumOffset(s, side, ju, jv);
                     const Ray ray =
                         primaryRay(camera, settings.width, settings.height, x + ox, y + oy);
-                    if (!tracer.trace(ray, random, value, weight, next, cdf, segment, rays))
+                    if (!tracer.trace(ray, random, value, weight, next, cdf, groupCdf, segment,
+                                      rays))
                         continue;
                     hits += 1;
                     for (std::size_t c = 0; c < rowsCarried; ++c)

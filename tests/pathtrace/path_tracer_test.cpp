@@ -166,6 +166,45 @@ TEST(PathTracer, LitPlaneMatchesPointToPolygonIrradiance) {
                 4 * verify::pointToRectangleCorner(0.5, 0.5, 1), 1e-12);
 }
 
+// The same square tessellated into 1,152 triangles (more than one group of emitters: the pick
+// draws a group of about 34 neighbours, then a triangle of it) and 200 small far emitters behind
+// the floor's plane, which cannot light it: the floor's radiance is still rho E F / pi.
+TEST(PathTracer, ManyEmitterTrianglesAreDrawnInGroupsWithoutBias) {
+    Scene scene;
+    scene.path = "tessellated light";
+    verify::addQuad(scene.mesh, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, {-10, 0, -10}, 0);
+    constexpr int kSide = 24;
+    for (int a = 0; a < kSide; ++a) {
+        for (int b = 0; b < kSide; ++b) {
+            const double x0 = -0.5 + double(a) / kSide, x1 = -0.5 + double(a + 1) / kSide;
+            const double z0 = -0.5 + double(b) / kSide, z1 = -0.5 + double(b + 1) / kSide;
+            verify::addQuad(scene.mesh, {x0, 1, z0}, {x1, 1, z0}, {x1, 1, z1}, {x0, 1, z1}, 1);
+        }
+    }
+    for (int k = 0; k < 100; ++k) {  // under the floor, facing down: never lights it
+        const double x = -5 + 0.1 * k;
+        verify::addQuad(scene.mesh, {x, -1, 0}, {x + 0.05, -1, 0}, {x + 0.05, -1, 0.05},
+                        {x, -1, 0.05}, 1);
+    }
+    const std::vector<Vec3d> square = {
+        {-0.5, 1, -0.5}, {0.5, 1, -0.5}, {0.5, 1, 0.5}, {-0.5, 1, 0.5}};
+    scene.materials = {verify::flatMaterial("flat", 0.5, 0), verify::flatMaterial("flat", 0, 1)};
+    auto set = WavelengthSet::fromWavelengths({550}, "one");
+    ASSERT_TRUE(set.ok());
+    PathTraceSettings settings = pointSettings(16384);
+    for (const Vec3d target : {Vec3d{0, 0, 0}, Vec3d{0.8, 0, 0.3}}) {
+        auto r =
+            pathTrace(scene, *set, lookAt(target + Vec3d{1.5, 0.6, 0.2}, target, 0.003), settings);
+        ASSERT_TRUE(r.ok()) << r.error().message;
+        const double exactY = 0.5 * verify::pointToPolygon(target, {0, 1, 0}, square) / kPi;
+        const ImageMean mean = imageMean(*r);
+        const double y = mean.channels[1] / set->xyzWeights(0)[1];
+        const double se = mean.standardErrorY / set->xyzWeights(0)[1];
+        EXPECT_LT(se, 0.01 * exactY);
+        EXPECT_NEAR(y, exactY, 5 * se + 1e-4 * exactY) << target;
+    }
+}
+
 // A point light and a spot over an open floor of reflectance 0.5: nothing else reflects, so the
 // floor's radiance at p is rho sum_l I_l cos(theta_l) falloff_l / d_l^2 / pi, the inverse square
 // cosine law with KHR_lights_punctual's spot falloff. A light 1e-300 m over the floor leaves every
