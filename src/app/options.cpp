@@ -84,7 +84,7 @@ void addCommonOptions(CLI::App& command, CommonOptions& options, bool sceneRequi
     command
         .add_option("--transport", options.transport,
                     "How light moves between patches: the all-pairs matrix F, hierarchical "
-                    "links between clusters, or auto: the links where F would need 512 MiB or "
+                    "links between clusters, or auto: the links where F would need 2 GiB or "
                     "more, or more than --max-memory (docs/hierarchical.md)")
         ->check(CLI::IsMember({"auto", "matrix", "hierarchical"}))
         ->capture_default_str();

@@ -53,12 +53,12 @@ enum class PatchSizeDefault { InputTriangles, Automatic };
 enum class TransportKind { Auto, Matrix, Hierarchical };
 const char* transportKindName(TransportKind kind);
 
-// From this estimated size of the matrix F on, `auto` takes the hierarchical transport: the
-// Blender-style Cornell boxes (F ~1006 MiB and 1.29 GiB) render in 0.42x and 0.54x the matrix
-// path's time and a fifth of its memory, their pictures within 0.2% and 1.5% of its; the
-// default scene (~307 MiB), where the hierarchy gains least (0.80x), keeps the matrix
-// (docs/hierarchical.md, "Which transport").
-inline constexpr uint64_t kAutoHierarchicalMatrixBytes = uint64_t(512) << 20;
+// From this estimated size of the matrix F on, `auto` takes the hierarchical transport. Below
+// it the matrix path is the more accurate one and still affordable: the double-sided
+// Blender-style Cornell box (F ~1.29 GiB) is 1.47% from the path tracer with the matrix in 22 s
+// and 2.89% with the links in 10 s; above it the matrix path's time and memory grow as n^2 (the
+// 30,000-triangle interior's F is 6.6 GiB) (docs/hierarchical.md, "Which transport").
+inline constexpr uint64_t kAutoHierarchicalMatrixBytes = uint64_t(2) << 30;
 
 // What `auto` picks for a matrix F estimated at `matrixBytes`: the hierarchy from
 // kAutoHierarchicalMatrixBytes on or when F would not fit in maxMemoryBytes, but only where it

@@ -75,10 +75,10 @@ double meanY(const Session& session, std::size_t index) {
 
 // Editing a material rebuilds E and M only: F is built exactly once, the re-solve starts warm
 // and lands on the answer a fresh session with the edited material computes from scratch.
-// `auto`: the links from 512 MiB of estimated F on, or where F does not fit, and only where the
+// `auto`: the links from 2 GiB of estimated F on, or where F does not fit, and only where the
 // cpu backend evaluates them.
 TEST(Session, AutoTransportTakesTheLinksWhereTheMatrixIsLargeOrDoesNotFit) {
-    const uint64_t gib = uint64_t(1) << 30, roomy = 16 * gib, half = gib / 2;
+    const uint64_t gib = uint64_t(1) << 30, roomy = 16 * gib, half = 2 * gib;
     EXPECT_EQ(chooseTransport(half - 1, roomy, "auto"), TransportKind::Matrix);
     EXPECT_EQ(chooseTransport(half, roomy, "auto"), TransportKind::Hierarchical);
     EXPECT_EQ(chooseTransport(half, roomy, "cpu"), TransportKind::Hierarchical);
