@@ -135,19 +135,13 @@ TEST(PathTracer, FluorescentFurnaceIsInverseOfIMinusM) {
     expectFurnace(scene, *set, 0.03);
 }
 
-// A unit square emitter (E = 1, black) at height 1 facing down over a floor of reflectance 0.5:
-// the floor's radiance at p is rho E F(p -> square) / pi, F by Lambert's contour formula.
-TEST(PathTracer, LitPlaneMatchesPointToPolygonIrradiance) {
-    Scene scene;
-    scene.path = "lit plane";
-    verify::addQuad(scene.mesh, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, {-10, 0, -10}, 0);
-    const std::vector<Vec3d> square = {
-        {-0.5, 1, -0.5}, {0.5, 1, -0.5}, {0.5, 1, 0.5}, {-0.5, 1, 0.5}};
-    verify::addQuad(scene.mesh, square[0], square[1], square[2], square[3], 1);
-    scene.materials = {verify::flatMaterial("flat", 0.5, 0), verify::flatMaterial("flat", 0, 1)};
+// The floor (material 0, reflectance 0.5) of `scene` under the emitting `square` (E = 1, black)
+// at two points, 16,384 samples each: its radiance is rho E F(p -> square) / pi, F by Lambert's
+// contour formula, within 5 standard errors, which stay under `noise` of it.
+void expectFloorLitBy(const Scene& scene, const std::vector<Vec3d>& square, double noise) {
     auto set = WavelengthSet::fromWavelengths({550}, "one");
     ASSERT_TRUE(set.ok());
-    PathTraceSettings settings = pointSettings(16384);
+    const PathTraceSettings settings = pointSettings(16384);
     for (const Vec3d target : {Vec3d{0, 0, 0}, Vec3d{0.8, 0, 0.3}}) {
         auto r =
             pathTrace(scene, *set, lookAt(target + Vec3d{1.5, 0.6, 0.2}, target, 0.003), settings);
@@ -158,16 +152,29 @@ TEST(PathTracer, LitPlaneMatchesPointToPolygonIrradiance) {
         const ImageMean mean = imageMean(*r);
         const double y = mean.channels[1] / set->xyzWeights(0)[1];
         const double se = mean.standardErrorY / set->xyzWeights(0)[1];
-        EXPECT_LT(se, 0.002 * exactY);
+        EXPECT_LT(se, noise * exactY);
         EXPECT_NEAR(y, exactY, 5 * se + 1e-4 * exactY) << target;
     }
+}
+
+// A unit square emitter (E = 1, black) at height 1 facing down over a floor of reflectance 0.5:
+// the floor's radiance at p is rho E F(p -> square) / pi, F by Lambert's contour formula.
+TEST(PathTracer, LitPlaneMatchesPointToPolygonIrradiance) {
+    Scene scene;
+    scene.path = "lit plane";
+    verify::addQuad(scene.mesh, {-10, 0, 10}, {10, 0, 10}, {10, 0, -10}, {-10, 0, -10}, 0);
+    const std::vector<Vec3d> square = {
+        {-0.5, 1, -0.5}, {0.5, 1, -0.5}, {0.5, 1, 0.5}, {-0.5, 1, 0.5}};
+    verify::addQuad(scene.mesh, square[0], square[1], square[2], square[3], 1);
+    scene.materials = {verify::flatMaterial("flat", 0.5, 0), verify::flatMaterial("flat", 0, 1)};
+    expectFloorLitBy(scene, square, 0.002);
     // The centre point is Howell B-3 four times over.
     EXPECT_NEAR(verify::pointToPolygon({0, 0, 0}, {0, 1, 0}, square),
                 4 * verify::pointToRectangleCorner(0.5, 0.5, 1), 1e-12);
 }
 
 // The same square tessellated into 1,152 triangles (more than one group of emitters: the pick
-// draws a group of about 34 neighbours, then a triangle of it) and 200 small far emitters behind
+// draws a group of about 37 neighbours, then a triangle of it) and 200 small far emitters behind
 // the floor's plane, which cannot light it: the floor's radiance is still rho E F / pi.
 TEST(PathTracer, ManyEmitterTrianglesAreDrawnInGroupsWithoutBias) {
     Scene scene;
@@ -189,20 +196,7 @@ TEST(PathTracer, ManyEmitterTrianglesAreDrawnInGroupsWithoutBias) {
     const std::vector<Vec3d> square = {
         {-0.5, 1, -0.5}, {0.5, 1, -0.5}, {0.5, 1, 0.5}, {-0.5, 1, 0.5}};
     scene.materials = {verify::flatMaterial("flat", 0.5, 0), verify::flatMaterial("flat", 0, 1)};
-    auto set = WavelengthSet::fromWavelengths({550}, "one");
-    ASSERT_TRUE(set.ok());
-    PathTraceSettings settings = pointSettings(16384);
-    for (const Vec3d target : {Vec3d{0, 0, 0}, Vec3d{0.8, 0, 0.3}}) {
-        auto r =
-            pathTrace(scene, *set, lookAt(target + Vec3d{1.5, 0.6, 0.2}, target, 0.003), settings);
-        ASSERT_TRUE(r.ok()) << r.error().message;
-        const double exactY = 0.5 * verify::pointToPolygon(target, {0, 1, 0}, square) / kPi;
-        const ImageMean mean = imageMean(*r);
-        const double y = mean.channels[1] / set->xyzWeights(0)[1];
-        const double se = mean.standardErrorY / set->xyzWeights(0)[1];
-        EXPECT_LT(se, 0.01 * exactY);
-        EXPECT_NEAR(y, exactY, 5 * se + 1e-4 * exactY) << target;
-    }
+    expectFloorLitBy(scene, square, 0.01);
 }
 
 // A point light and a spot over an open floor of reflectance 0.5: nothing else reflects, so the
