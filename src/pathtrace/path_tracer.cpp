@@ -57,8 +57,8 @@ struct EmitterTable {
     std::vector<uint32_t> patches;
     std::vector<double> power;  // per entry: sum_k E_k w_k times the area (W)
     std::vector<int> entryOf;  // per patch: its entry, or -1 for non-emitters
+    std::size_t groupSize = 1;  // entries a group; group g is [g, g + 1) x groupSize, cut at N
     std::vector<std::size_t> groupStart;  // entries [groupStart[g], groupStart[g + 1])
-    std::vector<int> groupOf;  // per entry
     std::vector<Vec3d> groupCentroid;  // power-weighted
     std::vector<double> groupPower, groupArea;
 
@@ -145,7 +145,7 @@ struct EmitterTable {
                        std::vector<double>& groupCdf) const {
         if (groupStart.size() == 2)
             return oneGroupTotal > 0 ? weight(mesh, entry, x, n) / oneGroupTotal : 0.0;
-        const auto g = std::size_t(groupOf[entry]);
+        const std::size_t g = entry / groupSize;
         const double total = entryWeights(mesh, g, x, n, cdf);
         if (!(total > 0)) return 0;
         const double groupTotal = groupWeights(x, groupCdf);
@@ -172,7 +172,7 @@ EmitterTable emitterTable(const PatchMesh& mesh, const RadiositySystem& system) 
     std::vector<std::size_t> order(count);
     for (std::size_t k = 0; k < count; ++k)
         order[k] = k;
-    std::size_t groupSize = count;
+    table.groupSize = std::max<std::size_t>(count, 1);
     if (count > kOneGroupEmitters) {
         // Morton order of the centroids in the emitters' bounding box, 21 bits an axis.
         Vec3d lo = mesh.centroids[emitting[0]], hi = lo;
@@ -200,21 +200,20 @@ EmitterTable emitterTable(const PatchMesh& mesh, const RadiositySystem& system) 
         }
         std::stable_sort(order.begin(), order.end(),
                          [&](std::size_t a, std::size_t b) { return code[a] < code[b]; });
-        groupSize = std::size_t(std::ceil(std::sqrt(double(count))));
+        table.groupSize = std::size_t(std::ceil(std::sqrt(double(count))));
     }
     for (std::size_t k = 0; k < count; ++k) {
         const uint32_t p = emitting[order[k]];
         table.entryOf[p] = int(k);
         table.patches.push_back(p);
         table.power.push_back(power[order[k]]);
-        if (k % std::max<std::size_t>(groupSize, 1) == 0) {
+        if (k % table.groupSize == 0) {
             table.groupStart.push_back(k);
             table.groupCentroid.push_back({0, 0, 0});
             table.groupPower.push_back(0);
             table.groupArea.push_back(0);
         }
         const std::size_t g = table.groupStart.size() - 1;
-        table.groupOf.push_back(int(g));
         table.groupCentroid[g] = table.groupCentroid[g] + mesh.centroids[p] * table.power.back();
         table.groupPower[g] += table.power.back();
         table.groupArea[g] += mesh.areas[p];
@@ -346,7 +345,7 @@ struct Tracer {
         resolveBackFace(mesh, ray, hit);
         double previousCos = 1;  // cos at the last vertex of the indirect ray's direction
         Vec3d previousX, previousN;  // the last vertex and its normal
-        double previousTotal = 0;  // the emitter weights' total there
+        double previousTotal = 0;  // the drawn group's entry weights' total there (all, with one)
         for (int bounce = 0;; ++bounce) {
             const uint32_t p = hit.patch;
             const Vec3d& n = mesh.normals[p];
