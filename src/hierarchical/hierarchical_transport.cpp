@@ -4,7 +4,6 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 
 #include "core/check.h"
@@ -323,11 +322,35 @@ Expected<MatrixComparison> HierarchicalTransport::compare(const Transport& other
 
 namespace {
 
-// A scene from which at most this share of the survey's rays escape is closed: the rays that
-// do slip through cracks between faces (3 of 246,784 on the black-light box, 1 of 421,888 on the
-// Blender-style box), while any real opening takes far more. Counting those as openings left
-// every row of those rooms uncapped from below and the pictures 1.7% and 1.5% dark.
+// A region of the scene from which at most this share of the survey's rays escape is closed:
+// the rays that do slip through cracks between faces (3 of 246,784 on the black-light box, 1 of
+// 421,888 on the Blender-style box), while any real opening takes far more. Counting those as
+// openings left every row of those rooms uncapped from below and the pictures 1.7% and 1.5%
+// dark.
 constexpr double kOpenSceneShare = 1e-4;
+
+// The regions of the survey: patches joined by a ray from one landing on the front of the
+// other (union-find with path halving). The inside of a closed double-sided room is one region;
+// its walls' outer faces, whose rays all escape, are others, and do not open it.
+class Regions {
+public:
+    explicit Regions(std::size_t n) : parent_(n) {
+        for (std::size_t i = 0; i < n; ++i)
+            parent_[i] = uint32_t(i);
+    }
+    uint32_t find(uint32_t i) {
+        while (parent_[i] != i)
+            i = parent_[i] = parent_[parent_[i]];
+        return i;
+    }
+    void join(uint32_t a, uint32_t b) {
+        a = find(a), b = find(b);
+        if (a != b) parent_[std::max(a, b)] = std::min(a, b);
+    }
+
+private:
+    std::vector<uint32_t> parent_;
+};
 
 struct PatchSurvey {
     std::vector<uint8_t> enclosed;  // per patch: its row must sum to 1
@@ -336,8 +359,9 @@ struct PatchSurvey {
 
 // kEnclosureRays cosine-distributed rays from area-uniform points of every patch (one hash per
 // ray: independent of the thread count), and what they tell:
-// - enclosed, in a closed scene (at most kOpenSceneShare of all the rays escape; in an open one
-//   a patch that sees a small opening can send all of a few rays past it): every ray of the
+// - enclosed, in a closed region (of the patches joined by these rays, at most kOpenSceneShare
+//   of their rays escape; in an open one a patch that sees a small opening can send all of a
+//   few rays past it): every ray of the
 //   patch lands on the front of a patch, none of them a face lying on it (closer than 1% of its
 //   size and facing it): closed around it by surfaces that face it, and not partly buried (a
 //   patch under a block has no well-defined row sum; the session's exposed parts handle it);
@@ -350,7 +374,7 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
     PatchSurvey survey;
     survey.enclosed.assign(n, 0);
     std::vector<uint32_t> lands(n * kEnclosureRays, kNoPatch);  // front hits only
-    std::atomic<uint64_t> escaped{0};
+    std::vector<uint8_t> escaped(n, 0);  // per patch: its rays that hit nothing
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, n, 64),
         [&](const tbb::blocked_range<std::size_t>& range) {
@@ -379,7 +403,7 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
                 for (int k = 0; k < kEnclosureRays; ++k) {
                     if (hits[k] == kNoPatch) {
                         closed = false;
-                        ++escaped;
+                        ++escaped[i];
                         continue;
                     }
                     const Vec3d o{rays[k].origin[0], rays[k].origin[1], rays[k].origin[2]};
@@ -387,6 +411,9 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
                     // Of a double-sided surface's two coincident faces, the ray meets the one
                     // facing it.
                     uint32_t hit = hits[k];
+                    // A flat patch cannot see itself: a ray that meets it or its back face
+                    // again (grazing, over an exporter's rounding) tells nothing.
+                    if (hit == i || hit == mesh.backPatch[i]) continue;
                     if (dot(mesh.normals[hit], d) >= 0 && mesh.backPatch[hit] != kNoBackPatch)
                         hit = mesh.backPatch[hit];
                     const Vec3d& m = mesh.normals[hit];
@@ -403,8 +430,21 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
                 survey.enclosed[i] = closed;
             }
         });
-    if (double(escaped) > kOpenSceneShare * double(n * kEnclosureRays))
-        std::fill(survey.enclosed.begin(), survey.enclosed.end(), 0);
+    Regions regions(n);
+    for (std::size_t r = 0; r < lands.size(); ++r) {
+        if (lands[r] != kNoPatch) regions.join(uint32_t(r / kEnclosureRays), lands[r]);
+    }
+    std::vector<uint64_t> regionRays(n, 0), regionEscapes(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const uint32_t root = regions.find(uint32_t(i));
+        regionRays[root] += kEnclosureRays;
+        regionEscapes[root] += escaped[i];
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+        const uint32_t root = regions.find(uint32_t(i));
+        if (double(regionEscapes[root]) > kOpenSceneShare * double(regionRays[root]))
+            survey.enclosed[i] = 0;
+    }
 
     survey.reached.assign(n, 0);
     std::vector<uint32_t> queue;
