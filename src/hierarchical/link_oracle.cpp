@@ -220,4 +220,16 @@ LinkImportance linkImportance(const RadiositySystem& system, std::span<const uin
     return importance;
 }
 
+bool importanceGrew(const LinkImportance& before, const LinkImportance& after, double factor) {
+    if (before.source.size() != after.source.size()) return true;
+    if (!(after.totalPower > 0)) return false;  // no light: no link carries any
+    if (!(before.totalPower > 0)) return true;
+    const double scale = factor * after.totalPower / before.totalPower;
+    for (std::size_t i = 0; i < after.source.size(); ++i) {
+        if (after.source[i] > scale * before.source[i]) return true;
+        if (after.yield[i] > factor * before.yield[i]) return true;
+    }
+    return false;
+}
+
 }  // namespace daisy

@@ -41,6 +41,15 @@ struct LinkImportance {
 // reached: per patch, 0 when no light can reach it (empty: every patch can).
 LinkImportance linkImportance(const RadiositySystem& system, std::span<const uint8_t> reached = {});
 
+// Whether links refined for `before` may carry more error than the oracle allows under `after`
+// (the same patches, after an edit of materials or lights): some patch's share of the scene's
+// visible power (source / totalPower), or its yield, grew past `factor` times what it was (a
+// share from 0 to anything: a new emitter, or a black material made grey). A far link's bound
+// is the product of a source and a yield over epsilon, which is proportional to the total
+// power, so under a growth below the factor every link stays within factor^2 of epsilon. A
+// uniform change of every light's strength changes no share.
+bool importanceGrew(const LinkImportance& before, const LinkImportance& after, double factor);
+
 // The oracle's geometric decision for two distinct nodes R and S, before visibility
 // (hierarchical/hierarchical_links.h gives the rules): no exchange (one side faces wholly away,
 // or the pair carries nothing: s_S y_R + s_R y_S = 0), a far link, or a split of R or of S, or a

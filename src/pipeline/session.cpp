@@ -41,6 +41,9 @@ struct Session::State {
     SessionTimings timings;
 
     std::shared_ptr<const Transport> transport;  // null until built or read
+    // The hierarchical transport's: the oracle's view of the system its links were refined
+    // for, without the survey's reach (Session::linksOutdated).
+    std::optional<LinkImportance> linksImportance;
     uint64_t builds = 0;
     std::string resolvedBackend;  // settings.backend with `auto` resolved, on first need
     std::optional<FormFactorKey> formFactorKey;  // computed on first need (the patches are fixed)
@@ -550,6 +553,7 @@ Expected<FormFactorReport> Session::buildHierarchical(const std::string& backend
                                " near factors from the cache ", report.cachePath, " in ",
                                formatDuration(report.seconds)));
             s.transport = std::move(lookup.transport);
+            s.linksImportance = linkImportance(s.system);
             s.exposedReady = false;
             s.timings.viewFactorSeconds = report.seconds;
             return report;
@@ -581,6 +585,7 @@ Expected<FormFactorReport> Session::buildHierarchical(const std::string& backend
                          " far-link rays; refinement ", formatDuration(stats.refineSeconds),
                          ", near factors ", formatDuration(stats.nearSeconds)));
     s.transport = *built;
+    s.linksImportance = linkImportance(s.system);
     s.exposedReady = false;
     s.timings.viewFactorSeconds = report.seconds;
     if (cache) {
@@ -592,6 +597,30 @@ Expected<FormFactorReport> Session::buildHierarchical(const std::string& backend
             });
     }
     return report;
+}
+
+bool Session::linksOutdated() const {
+    const State& s = *state_;
+    return s.transport && s.linksImportance &&
+        importanceGrew(*s.linksImportance, linkImportance(s.system), kRelinkFactor);
+}
+
+Expected<FormFactorReport> Session::refineLinks(const CancelToken* cancel) {
+    State& s = *state_;
+    if (!s.transport || !s.linksImportance) {
+        return Error{"refineLinks: the session holds no hierarchical links"};
+    }
+    const uint64_t held = s.transport->stats().bytes;
+    const uint64_t peak = estimateHierarchy(s.patches, s.system.wavelengthCount).peakBytes;
+    if (held + peak > s.settings.maxMemoryBytes) {
+        return Error{concat(s.scenePath(), ": refining the links again needs about ",
+                            formatBytes(double(peak)), " beside the ", formatBytes(double(held)),
+                            " the current ones hold, more than --max-memory ",
+                            formatBytes(double(s.settings.maxMemoryBytes)),
+                            "; the edit is solved on the links in hand")};
+    }
+    finishCacheWrite();  // the cache store of the old links holds them until it ends
+    return buildHierarchical(s.settings.backend, cancel, true);
 }
 
 bool Session::hasFormFactors() const {

@@ -208,6 +208,16 @@ public:
     // cache's links entries (pipeline/links_cache.h).
     Expected<FormFactorReport> buildHierarchical(const std::string& backend,
                                                  const CancelToken* cancel, bool useCache);
+    // With the hierarchical transport: true when an edit since its links were refined moved
+    // light where they may be too coarse for the oracle (importanceGrew, hierarchical/
+    // link_oracle.h, with kRelinkFactor), such as a new emitter or a dark cavity made bright.
+    bool linksOutdated() const;
+    static constexpr double kRelinkFactor = 1.4;  // every link within 2 epsilon until then
+    // Refines the links again for the materials and lights in hand (the disk cache's entry for
+    // them, or a build) and replaces the transport; the solution stays as the warm start. The
+    // old links are kept until the new ones are ready, so both count against --max-memory. A
+    // cancelled or refused refinement keeps the old links.
+    Expected<FormFactorReport> refineLinks(const CancelToken* cancel = nullptr);
 
     // ---- edits (F untouched) ----
     // Replaces material `index` and rebuilds E and M; the solution is kept as the warm start.

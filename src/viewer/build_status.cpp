@@ -40,7 +40,8 @@ void drawBuildStatus(const BuildProgress& progress, const DisplaySnapshot& snaps
             ImGui::PopStyleColor();
         } else {
             ImGui::TextUnformatted(
-                snapshot.fromCache         ? "Converged solution from the cache; making the view "
+                !snapshot.building         ? "Edit solved; refining the links where it moved light"
+                    : snapshot.fromCache   ? "Converged solution from the cache; making the view "
                                              "factors for edits"
                     : snapshot.directLight ? "Direct light shown; making the view factors"
                                            : "Emission shown; making the view factors");

@@ -242,6 +242,35 @@ void SolveWorker::solve(bool bounce) {
     publish("", false);
 }
 
+void SolveWorker::refineLinksIfOutdated() {
+    if (cancel_.cancelled() || !session_.linksOutdated()) return;
+    const Timer timer;
+    {
+        std::lock_guard lock(mutex_);
+        buildStartedAt_ = stageStartedAt_ = steadySeconds();
+        const uint64_t version = progress_.version;
+        progress_ = BuildProgress{};
+        progress_.active = true;
+        progress_.stage = "refining the links";
+        progress_.version = version + 1;
+    }
+    auto refined = session_.refineLinks(&cancel_);
+    {
+        std::lock_guard lock(mutex_);
+        progress_.active = false;
+        ++progress_.version;
+        if (refined) transportStats_ = session_.transport().stats();
+    }
+    if (!refined) {
+        // A newer command cancelled it: that command's solve asks again.
+        if (!cancel_.cancelled()) publish(concat("links kept: ", refined.error().message), false);
+        return;
+    }
+    logVerbose(concat("view: links refined again for the edit in ",
+                      formatNumber(timer.seconds(), 3), " s"));
+    solve(false);
+}
+
 void SolveWorker::firstBounce(std::size_t material) {
     std::vector<uint8_t> selected(patches_.patchCount());
     for (std::size_t p = 0; p < selected.size(); ++p)
@@ -407,6 +436,7 @@ void SolveWorker::run() {
                 message_.clear();
                 firstBounce(command.index);
                 solve(false);
+                refineLinksIfOutdated();
                 break;
             }
             case Command::Kind::SetLight: {
@@ -423,6 +453,7 @@ void SolveWorker::run() {
                 const std::vector<uint8_t> all(patches_.patchCount(), 1);
                 if (session_.previewBounce(all)) waitForPreview();
                 solve(false);
+                refineLinksIfOutdated();
                 break;
             }
             case Command::Kind::Converge:
@@ -445,6 +476,7 @@ void SolveWorker::run() {
                     break;
                 }
                 solve(false);
+                refineLinksIfOutdated();
                 break;
             }
         }

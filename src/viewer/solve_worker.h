@@ -9,11 +9,12 @@
 // publishing the build's progress (buildProgress: the window's progress bar and ETA), and solves
 // unless the cached solution stands. Commands posted meanwhile wait for F. A new command cancels
 // the solve running (core/cancel.h); material edits re-solve warm from the last B on the same
-// transport, which is never rebuilt (Session::setMaterial). Before that solve, the edited
-// material's patches get one bounce of the light that reached them in the last finished solve
-// (Session::previewBounce): an image within milliseconds of the edit, which the solve then
-// corrects. While a solve runs, the iterate is published every kPublishSeconds (and after the
-// first iteration), so the picture updates as it converges.
+// transport; with the hierarchical transport, an edit that moved light where its links are too
+// coarse then has them refined again and solves once more (refineLinksIfOutdated). Before the
+// first solve, the edited material's patches get one bounce of the light that reached them in the
+// last finished solve (Session::previewBounce): an image within milliseconds of the edit, which the
+// solve then corrects. While a solve runs, the iterate is published every kPublishSeconds (and
+// after the first iteration), so the picture updates as it converges.
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -138,6 +139,10 @@ private:
     // Publishes B = E + M H (above); the first solve starts from it.
     void showDirectLight();
     void solve(bool bounce);
+    // After an edit's solve, with the hierarchical transport: when the edit moved light where
+    // the links are too coarse (Session::linksOutdated), refines them again (the progress bar
+    // shows it; a newer command cancels it) and solves warm on the new links.
+    void refineLinksIfOutdated();
     // The edited material's first bounce (above), published; nothing without a gathered G.
     void firstBounce(std::size_t material);
     // Publishes the preview and waits (at most kPreviewWaitSeconds) until a frame shows it.

@@ -269,6 +269,51 @@ TEST(HierarchicalTransport, TheLinksCacheRestoresTheTransportExactly) {
 
 // Per patch: its near factors plus the far half-links of its leaf and of every ancestor (the
 // links whose transport reaches it); {mean, largest}.
+// An edit that moves light (the red wall made a lamp as strong as the ceiling's) leaves links
+// refined for the old light too coarse around it: the session says so, and refines them again
+// to exactly the links a fresh session with the edited material builds (the same B bit for
+// bit). Making every light three times as strong moves none: no refinement is asked for.
+TEST(HierarchicalTransport, AnEditThatMovesLightRefinesTheLinksAgain) {
+    SessionSettings settings = cornellSettings(0.15);
+    settings.transport = TransportKind::Hierarchical;
+    auto session = Session::open(settings);
+    ASSERT_TRUE(session.ok()) << session.error().message;
+    ASSERT_TRUE(session->buildFormFactors().ok());
+    EXPECT_FALSE(session->linksOutdated());
+    constexpr std::size_t kRed = 1, kEmitter = 3;
+    ASSERT_EQ(session->scene().materials[kEmitter].name, "emitter");
+    Material stronger = session->scene().materials[kEmitter];
+    stronger.spectral.emission->scale *= 3;
+    ASSERT_TRUE(session->setMaterial(kEmitter, stronger).ok());
+    EXPECT_FALSE(session->linksOutdated());
+
+    Material lamp = session->scene().materials[kRed];
+    lamp.spectral.emission = stronger.spectral.emission;
+    ASSERT_TRUE(session->setMaterial(kRed, lamp).ok());
+    EXPECT_TRUE(session->linksOutdated());
+    const uint64_t linksBefore = session->transport().stats().entries;
+    auto refined = session->refineLinks();
+    ASSERT_TRUE(refined.ok()) << refined.error().message;
+    EXPECT_FALSE(session->linksOutdated());
+    EXPECT_NE(session->transport().stats().entries, linksBefore);
+    auto solved = session->solve();
+    ASSERT_TRUE(solved.ok()) << solved.error().message;
+
+    auto fresh = Session::open(settings);
+    ASSERT_TRUE(fresh.ok()) << fresh.error().message;
+    ASSERT_TRUE(fresh->setMaterial(kEmitter, stronger).ok());
+    ASSERT_TRUE(fresh->setMaterial(kRed, lamp).ok());
+    ASSERT_TRUE(fresh->buildFormFactors().ok());
+    EXPECT_EQ(fresh->transport().stats().entries, session->transport().stats().entries);
+    const auto* ours = dynamic_cast<const HierarchicalTransport*>(&session->transport());
+    const auto* theirs = dynamic_cast<const HierarchicalTransport*>(&fresh->transport());
+    ASSERT_TRUE(ours && theirs);
+    auto expected = theirs->solve(fresh->system(), SolverSettings{});
+    auto got = ours->solve(session->system(), SolverSettings{});
+    ASSERT_TRUE(expected.ok() && got.ok());
+    EXPECT_EQ(got->radiosity, expected->radiosity);
+}
+
 std::pair<double, uint64_t> linksPerPatch(const HierarchicalTransport& transport) {
     const ClusterTree& tree = transport.tree();
     const HierarchicalLinks& links = transport.links();

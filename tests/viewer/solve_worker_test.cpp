@@ -79,6 +79,38 @@ TEST(SolveWorker, EditsCancelledByNewerOnesConvergeToTheDirectSolve) {
     expectSameChannels(*snapshot, direct);
 }
 
+// With the hierarchical transport, an edit that makes another wall a lamp is solved on the
+// links in hand, then the links are refined again in the background: the worker ends on the
+// links a fresh session with the edit builds, and shows its solution.
+TEST(SolveWorker, AnEditThatMovesLightRefinesTheLinksInTheBackground) {
+    SessionSettings settings = test::unitRoomSettings();
+    settings.transport = TransportKind::Hierarchical;
+    const Scene scene = verify::unitRoomScene(8, "D65");  // all pairs near links at 3
+    const auto open = [&](const std::vector<std::pair<std::size_t, Material>>& edits) {
+        auto session = Session::fromScene(scene, settings);
+        EXPECT_TRUE(session.ok()) << session.error().message;
+        for (const auto& [index, material] : edits)
+            EXPECT_TRUE(session->setMaterial(index, material).ok());
+        EXPECT_TRUE(session->solve().ok());
+        return std::move(*session);
+    };
+    Material lamp = scene.materials[4];
+    lamp.spectral.emission = scene.materials[1].spectral.emission;
+    SolveWorker worker(open({}));
+    waitIdle(worker);
+    const TransportStats before = worker.transportStats();
+    worker.setMaterial(4, lamp);
+    waitIdle(worker);
+    const auto snapshot = worker.latest();
+    EXPECT_TRUE(snapshot->converged);
+    EXPECT_EQ(snapshot->message, "");
+
+    const Session direct = open({{4, lamp}});
+    EXPECT_EQ(worker.transportStats().entries, direct.transport().stats().entries);
+    EXPECT_NE(worker.transportStats().entries, before.entries);
+    expectSameChannels(*snapshot, direct);
+}
+
 TEST(SolveWorker, OneBounceFromEmissionIsOneJacobiStep) {
     Session session = solvedRoom();
     const RadiositySystem system = session.system();
