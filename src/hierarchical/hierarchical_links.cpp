@@ -149,25 +149,32 @@ private:
         // A link whose partial visibility would not be refined needs only a rough V.
         const bool refinable = 0.5 * phi > visibilityEpsilon_;
         const int count = std::max(1, refinable ? hierarchy_.farRays : hierarchy_.farRays / 2);
-        local.segments.resize(count);
-        local.blocked.assign(count, 0);
         const uint32_t seed = shared::pairSeed(pair.r, pair.s, seed_);
-        for (int k = 0; k < count; ++k) {
-            const shared::vec3 x = samplePoint(r, k, count, shared::streamSeed(seed, 2 * k));
-            const shared::vec3 y =
-                samplePoint(s, (k * 5 + 3) % count, count, shared::streamSeed(seed, 2 * k + 1));
-            const shared::vec3 a = x + (y - x) * kSegmentTrim;
-            const shared::vec3 b = y + (x - y) * kSegmentTrim;
-            local.segments.set(k, a.x, a.y, a.z, b.x, b.y, b.z);
-        }
-        rays_.occluded(local.segments, local.blocked);
-        local.stats.raysCast += count;
-        int open = 0;
-        for (uint8_t b : local.blocked)
-            open += b == 0;
-        if (open > 0 && open < count && refinable) {
-            ++local.stats.partlyVisibleRefined;
-            return false;
+        // In two batches when the pair may be refined: a first half already partly blocked
+        // decides it (as all of them would), and the second half is not cast.
+        const int first = refinable ? count / 2 : count;
+        int open = 0, cast = 0;
+        for (const int end : {first, count}) {
+            if (end == cast) continue;
+            local.segments.resize(std::size_t(end - cast));
+            local.blocked.assign(std::size_t(end - cast), 0);
+            for (int k = cast; k < end; ++k) {
+                const shared::vec3 x = samplePoint(r, k, count, shared::streamSeed(seed, 2 * k));
+                const shared::vec3 y =
+                    samplePoint(s, (k * 5 + 3) % count, count, shared::streamSeed(seed, 2 * k + 1));
+                const shared::vec3 a = x + (y - x) * kSegmentTrim;
+                const shared::vec3 b = y + (x - y) * kSegmentTrim;
+                local.segments.set(std::size_t(k - cast), a.x, a.y, a.z, b.x, b.y, b.z);
+            }
+            rays_.occluded(local.segments, local.blocked);
+            local.stats.raysCast += uint64_t(end - cast);
+            for (uint8_t b : local.blocked)
+                open += b == 0;
+            cast = end;
+            if (open > 0 && open < cast && refinable) {
+                ++local.stats.partlyVisibleRefined;
+                return false;
+            }
         }
         if (open == 0) {
             ++local.stats.hidden;
