@@ -12,9 +12,9 @@
 // A planar node (every patch normal n, cluster_tree.h) holds the scalar form instead, m values:
 // Q = sum A_j B_j (P = n Q) and n . J, which its patches receive unchanged. Most links join
 // two planar nodes and then cost one product a wavelength, like an entry of F.
-// Row sums: in a closed scene (of kEnclosureRays cosine rays from every patch, at most 1e-4
-// escape: hierarchical_transport.cpp, kOpenSceneShare), a
-// patch whose rays all land on the front of other patches is enclosed, and its factors must sum
+// Row sums: in a closed region (of the patches joined by kEnclosureRays cosine rays from
+// every patch, at most 1e-4 of their rays escape: hierarchical_transport.cpp, kOpenSceneShare),
+// a patch whose rays all land on the front of other patches is enclosed, and its factors must sum
 // to 1 (every ray leaving it lands on a patch): its far part is scaled so that the row sums to
 // exactly 1, which removes the far field's and the hidden links' share of error from the sum
 // (the white furnace then holds exactly). Other rows whose factors sum past 1 are capped at 1

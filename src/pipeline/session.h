@@ -54,10 +54,10 @@ enum class TransportKind { Auto, Matrix, Hierarchical };
 const char* transportKindName(TransportKind kind);
 
 // From this estimated size of the matrix F on, `auto` takes the hierarchical transport. Below
-// it the matrix path is the more accurate one and still affordable: the double-sided
-// Blender-style Cornell box (F ~1.29 GiB) is 1.47% from the path tracer with the matrix in 22 s
-// and 2.89% with the links in 10 s; above it the matrix path's time and memory grow as n^2 (the
-// 30,000-triangle interior's F is 6.6 GiB) (docs/hierarchical.md, "Which transport").
+// it the matrix path is at least as accurate and still affordable: the Cornell box at 15,132
+// patches (F ~1.10 GiB) is 1.23% from the path tracer with the matrix and 1.73% with the links;
+// above it the matrix path's time and memory grow as n^2 (the 30,000-triangle interior's F is
+// 6.6 GiB) (docs/hierarchical.md, "Which transport").
 inline constexpr uint64_t kAutoHierarchicalMatrixBytes = uint64_t(2) << 30;
 
 // What `auto` picks for a matrix F estimated at `matrixBytes`: the hierarchy from
