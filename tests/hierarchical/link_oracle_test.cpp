@@ -116,5 +116,36 @@ TEST(LinkOracle, ImportanceWeighsUvByTheVisibleLightItCanBecome) {
     EXPECT_EQ(without.yield[1], 0);
 }
 
+// Links refined for one light stay valid under another unless some patch's share of the visible
+// power, or its yield, grew past the factor: scaling every source leaves every share; a share
+// from 0 (a new lamp) or a yield grown 1.5x (a grey material made white) does not.
+TEST(LinkOracle, LinksAreOutdatedWhenAShareOfTheLightGrows) {
+    LinkImportance before;
+    before.source = {4, 1, 0};
+    before.yield = {0.5, 0.5, 0.2};
+    before.totalPower = 5;
+    LinkImportance after = before;
+    for (double& s : after.source)
+        s *= 3;
+    after.totalPower *= 3;
+    EXPECT_FALSE(importanceGrew(before, after, 1.4));
+    after.source[1] *= 1.3;  // its share grows 1.23x (the total grows too)
+    after.totalPower += 0.3 * 3;
+    EXPECT_FALSE(importanceGrew(before, after, 1.4));
+    after.source[1] *= 1.2;  // 1.47x
+    EXPECT_TRUE(importanceGrew(before, after, 1.4));
+    after = before;
+    after.source[2] = 1e-6;
+    EXPECT_TRUE(importanceGrew(before, after, 1.4));
+    after = before;
+    after.yield[0] = 0.75;
+    EXPECT_TRUE(importanceGrew(before, after, 1.4));
+    after.yield[0] = 0.69;
+    EXPECT_FALSE(importanceGrew(before, after, 1.4));
+    after.totalPower = 0;  // no light: nothing to carry
+    after.yield[0] = 1;
+    EXPECT_FALSE(importanceGrew(before, after, 1.4));
+}
+
 }  // namespace
 }  // namespace daisy
