@@ -355,6 +355,7 @@ private:
 struct PatchSurvey {
     std::vector<uint8_t> enclosed;  // per patch: its row must sum to 1
     std::vector<uint8_t> reached;  // per patch: light can reach it
+    std::vector<uint8_t> dark;  // per patch: in a region light does not reach (receives none)
 };
 
 // kEnclosureRays cosine-distributed rays from area-uniform points of every patch (one hash per
@@ -366,8 +367,11 @@ struct PatchSurvey {
 //   size and facing it): closed around it by surfaces that face it, and not partly buried (a
 //   patch under a block has no well-defined row sum; the session's exposed parts handle it);
 // - reached: the patches a path of these rays leads to from an emitter (any patch with
-//   emission, punctual lights' reflections included), by breadth-first search. The rest are
-//   dark cavities, such as the inside of a closed double-sided box standing on the floor.
+//   emission, punctual lights' reflections included), by breadth-first search;
+// - dark: the patches of a closed region (above) with no reached patch: cavities no light
+//   enters, such as the inside of a closed double-sided box standing on the floor, or of a
+//   column's shaft closed by its base and capital. They neither send nor receive: no link
+//   touches them.
 PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
                           const RayCaster& caster, uint32_t seed) {
     const std::size_t n = mesh.patchCount(), wavelengths = system.wavelengthCount;
@@ -440,10 +444,11 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
         regionRays[root] += kEnclosureRays;
         regionEscapes[root] += escaped[i];
     }
+    std::vector<uint8_t> open(n, 0);  // per region root
     for (std::size_t i = 0; i < n; ++i) {
         const uint32_t root = regions.find(uint32_t(i));
-        if (double(regionEscapes[root]) > kOpenSceneShare * double(regionRays[root]))
-            survey.enclosed[i] = 0;
+        open[root] = double(regionEscapes[root]) > kOpenSceneShare * double(regionRays[root]);
+        if (open[root]) survey.enclosed[i] = 0;
     }
 
     survey.reached.assign(n, 0);
@@ -463,6 +468,17 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
                 queue.push_back(j);
             }
         }
+    }
+    // Dark: a closed region none of whose patches light reaches. Its own rays land only inside
+    // it, so light from outside has no way in: it receives nothing either. (An open region
+    // light was not seen to reach may still see a lamp its few rays missed.)
+    std::vector<uint8_t> lit(n, 0);
+    for (std::size_t i = 0; i < n; ++i)
+        lit[regions.find(uint32_t(i))] |= survey.reached[i];
+    survey.dark.assign(n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const uint32_t root = regions.find(uint32_t(i));
+        survey.dark[i] = !lit[root] && !open[root];
     }
     return survey;
 }
@@ -518,8 +534,9 @@ Expected<std::shared_ptr<const HierarchicalTransport>> buildHierarchicalTranspor
         ClusterTree tree = buildClusterTree(mesh);
         const std::unique_ptr<PairEvaluator> evaluator =
             makeRayPairEvaluator(mesh, settings, **caster);
-        auto links = buildHierarchicalLinks(mesh, tree, linkImportance(system, survey.reached),
-                                            hierarchy, settings, *evaluator, **caster);
+        auto links =
+            buildHierarchicalLinks(mesh, tree, linkImportance(system, survey.reached, survey.dark),
+                                   hierarchy, settings, *evaluator, **caster);
         if (!links) return links.error();
         return std::make_shared<const HierarchicalTransport>(mesh, std::move(tree),
                                                              std::move(*links), survey.enclosed);

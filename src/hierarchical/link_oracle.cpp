@@ -141,7 +141,8 @@ LinkDecision chooseLink(const HierarchyNode& r, const HierarchyNode& s, const Li
     return decision;
 }
 
-LinkImportance linkImportance(const RadiositySystem& system, std::span<const uint8_t> reached) {
+LinkImportance linkImportance(const RadiositySystem& system, std::span<const uint8_t> reached,
+                              std::span<const uint8_t> dark) {
     const std::size_t n = system.patchCount, m = system.wavelengthCount;
     const std::vector<double>& widths = system.binWidthsNm;
     std::vector<double> ybar(m);
@@ -214,7 +215,7 @@ LinkImportance linkImportance(const RadiositySystem& system, std::span<const uin
             source +=
                 (directShare * system.emission[i * m + k] + bounce[p][k]) * worth[k] * widths[k];
         importance.source[i] = reached.empty() || reached[i] ? source : 0.0;
-        importance.yield[i] = yield[p];
+        importance.yield[i] = dark.empty() || !dark[i] ? yield[p] : 0.0;
         importance.totalPower += system.areas[i] * importance.source[i];
     }
     return importance;

@@ -107,9 +107,9 @@ TEST(HierarchicalTransport, AClusterOfSmallSquaresTransportsWhatOneSquareDoes) {
 }
 
 // A lit room around a floating closed box whose material is double-sided (as Blender exports
-// every material): the box's back faces enclose a cavity no light reaches. Its patches have
-// nothing to exchange, so no pair of them is linked (they were, as near pairs for the most part:
-// the double-sided Blender-style Cornell box's block interiors), while the box's outside is lit.
+// every material): the box's back faces enclose a cavity no light reaches (a dark region of the
+// survey). Its patches neither send nor receive, so no pair with one of them is linked, while
+// the box's outside is lit.
 TEST(HierarchicalTransport, ADarkCavityGetsNoLinks) {
     TriangleMesh triangles = verify::unitCubeRoom(4);
     const uint32_t roomTriangles = uint32_t(triangles.triangleCount());
@@ -128,6 +128,22 @@ TEST(HierarchicalTransport, ADarkCavityGetsNoLinks) {
     ASSERT_TRUE(transport);
     EXPECT_EQ(groupFactor(*mesh, *transport, backs, n, backs, n), 0.0);
     EXPECT_GT(groupFactor(*mesh, *transport, roomTriangles, backs, 0, roomTriangles), 0.1);
+    // No pair with a cavity patch is even tried: against the room with the box single-sided
+    // (no cavity faces at all), the same near factors, no hidden pair, and few more node pairs
+    // examined (the tree splits differently). With the cavity's yield counted, 83% more pairs
+    // were examined, 50 of them hidden and shot at with 400 rays, and 2 factors more stored.
+    const uint8_t singleSided[2] = {0, 0};
+    auto plain = buildPatchMesh(triangles, 0, UINT32_MAX, singleSided);
+    ASSERT_TRUE(plain.ok()) << plain.error().message;
+    RadiositySystem plainSystem = greySystem(*plain, 0.5, 0);
+    std::fill_n(plainSystem.emission.begin(), roomTriangles, 1.0);
+    const auto without = build(*plain, plainSystem);
+    ASSERT_TRUE(without);
+    const LinkStats& with = transport->links().stats;
+    const LinkStats& other = without->links().stats;
+    EXPECT_EQ(with.nearEntries, other.nearEntries);
+    EXPECT_EQ(with.hidden, 0u);
+    EXPECT_LT(double(with.candidates), 1.2 * double(other.candidates));
 }
 
 // A closed room (no ray escapes): every row is scaled to exactly 1, so the white furnace
