@@ -362,10 +362,10 @@ struct PatchSurvey {
 // ray: independent of the thread count), and what they tell:
 // - enclosed, in a closed region (of the patches joined by these rays, at most kOpenSceneShare
 //   of their rays escape; in an open one a patch that sees a small opening can send all of a
-//   few rays past it): every ray of the
-//   patch lands on the front of a patch, none of them a face lying on it (closer than 1% of its
-//   size and facing it): closed around it by surfaces that face it, and not partly buried (a
-//   patch under a block has no well-defined row sum; the session's exposed parts handle it);
+//   few rays past it): every ray of the patch lands on the front of a patch, none of them a
+//   face lying on it (closer than 1% of its size and facing it): closed around it by surfaces
+//   that face it, and not partly buried (a patch under a block has no well-defined row sum;
+//   the session's exposed parts handle it);
 // - reached: the patches a path of these rays leads to from an emitter (any patch with
 //   emission, punctual lights' reflections included), by breadth-first search;
 // - dark: the patches of a closed region (above) with no reached patch: cavities no light

@@ -663,6 +663,7 @@ std::string Session::finishCacheWrite() const {
 void Session::setFormFactors(SparseMatrix matrix) {
     DAISY_CHECK_OP(matrix.size, ==, state_->patches.patchCount());
     state_->transport = std::make_shared<MatrixTransport>(std::move(matrix));
+    state_->linksImportance.reset();  // no links to refine
     state_->exposedReady = false;
 }
 
