@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "core/cancel.h"
+#include "core/progress.h"
 #include "core/timer.h"
 #include "geometry/shared_vec.h"
 #include "shared/rng.h"
@@ -247,15 +248,20 @@ void groupFarLinks(const std::vector<FarRecord>& records, std::size_t nodeCount,
 
 // The near links' factors, both directions, as F's rows (zeros dropped).
 Expected<SparseMatrix> evaluateNear(const std::vector<shared::PairIndex>& pairs, uint32_t n,
-                                    int rays, PairEvaluator& evaluator, const CancelToken* cancel) {
+                                    const FormFactorSettings& settings, PairEvaluator& evaluator) {
     std::vector<shared::PairFactors> factors(pairs.size());
     const std::size_t batch = std::max<std::size_t>(1, evaluator.batchPairs());
-    for (std::size_t begin = 0; begin < pairs.size(); begin += batch) {
-        if (isCancelled(cancel)) return Error{kInterruptedMessage};
-        const std::size_t count = std::min(batch, pairs.size() - begin);
-        auto done = evaluator.evaluate({pairs.data() + begin, count}, rays,
-                                       {factors.data() + begin, count});
-        if (!done) return done.error();
+    {
+        Progress progress("near factors", pairs.size(), "pairs",
+                          settings.progress && progressEnabledByDefault(), settings.onProgress);
+        for (std::size_t begin = 0; begin < pairs.size(); begin += batch) {
+            if (isCancelled(settings.cancel)) return Error{kInterruptedMessage};
+            const std::size_t count = std::min(batch, pairs.size() - begin);
+            auto done = evaluator.evaluate({pairs.data() + begin, count}, settings.raysPerPair,
+                                           {factors.data() + begin, count});
+            if (!done) return done.error();
+            progress.advance(count);
+        }
     }
     SparseMatrix matrix = SparseMatrix::zeros(n);
     std::vector<uint64_t>& offsets = matrix.rowOffsets;
@@ -319,23 +325,30 @@ Expected<HierarchicalLinks> buildHierarchicalLinks(const PatchMesh& mesh, const 
         frontier.swap(next);
     }
     std::atomic<bool> cancelled{false};
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, frontier.size(), 16),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                          Local& local = locals.local();
-                          std::vector<Pair> stack;
-                          for (std::size_t k = range.begin(); k != range.end(); ++k) {
-                              if (isCancelled(settings.cancel)) {
-                                  cancelled = true;
-                                  return;
+    {
+        // The frontier's pairs as the unit of work: their subtrees differ in size, so the
+        // fraction is a rough one.
+        Progress progress("links", frontier.size(), "node pairs",
+                          settings.progress && progressEnabledByDefault(), settings.onProgress);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, frontier.size(), 16),
+                          [&](const tbb::blocked_range<std::size_t>& range) {
+                              Local& local = locals.local();
+                              std::vector<Pair> stack;
+                              for (std::size_t k = range.begin(); k != range.end(); ++k) {
+                                  if (isCancelled(settings.cancel)) {
+                                      cancelled = true;
+                                      return;
+                                  }
+                                  stack.assign(1, frontier[k]);
+                                  while (!stack.empty()) {
+                                      const Pair pair = stack.back();
+                                      stack.pop_back();
+                                      refiner.decide(pair, local, stack);
+                                  }
                               }
-                              stack.assign(1, frontier[k]);
-                              while (!stack.empty()) {
-                                  const Pair pair = stack.back();
-                                  stack.pop_back();
-                                  refiner.decide(pair, local, stack);
-                              }
-                          }
-                      });
+                              progress.advance(range.size());
+                          });
+    }
     if (cancelled) return Error{kInterruptedMessage};
 
     // Each thread's records are merged and freed one thread at a time, and the far records are
@@ -368,7 +381,7 @@ Expected<HierarchicalLinks> buildHierarchicalLinks(const PatchMesh& mesh, const 
 
     Timer nearTimer;
     links.stats.nearPairsEvaluated = near.size();
-    auto matrix = evaluateNear(near, n, settings.raysPerPair, evaluator, settings.cancel);
+    auto matrix = evaluateNear(near, n, settings, evaluator);
     if (!matrix) return matrix.error();
     links.near = std::move(*matrix);
     links.stats.nearEntries = links.near.nonzeroCount();

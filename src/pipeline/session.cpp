@@ -412,7 +412,7 @@ Expected<FormFactorReport> Session::buildFormFactors(const CancelToken* cancel,
         return report;
     }
     if (s.settings.transport == TransportKind::Hierarchical) {
-        return buildHierarchical(s.settings.backend, cancel, true);
+        return buildHierarchical(s.settings.backend, cancel, true, onProgress);
     }
     Timer timer;
     std::optional<FormFactorCache> cache;
@@ -472,7 +472,7 @@ Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& 
                                                              const ProgressObserver& onProgress) {
     State& s = *state_;
     if (s.settings.transport == TransportKind::Hierarchical) {
-        return buildHierarchical(backendName, cancel, false);
+        return buildHierarchical(backendName, cancel, false, onProgress);
     }
     Timer timer;
     const MatrixEstimate estimate = matrixEstimate();
@@ -510,7 +510,8 @@ Expected<FormFactorReport> Session::buildFormFactorsUncached(const std::string& 
 }
 
 Expected<FormFactorReport> Session::buildHierarchical(const std::string& backendName,
-                                                      const CancelToken* cancel, bool useCache) {
+                                                      const CancelToken* cancel, bool useCache,
+                                                      const ProgressObserver& onProgress) {
     State& s = *state_;
     const std::string backend = hierarchicalBackend(backendName);
     if (backend != "cpu") {
@@ -563,7 +564,7 @@ Expected<FormFactorReport> Session::buildHierarchical(const std::string& backend
             logWarning(lookup.message);
         }
     }
-    FormFactorSettings settings = formFactorSettingsOf(s.settings, cancel, {});
+    FormFactorSettings settings = formFactorSettingsOf(s.settings, cancel, onProgress);
     auto built = buildHierarchicalTransport(s.patches, s.system, s.settings.hierarchy, settings);
     if (!built) return withContext(built.error(), s.scenePath());
     ++s.builds;
@@ -605,7 +606,8 @@ bool Session::linksOutdated() const {
         importanceGrew(*s.linksImportance, linkImportance(s.system), kRelinkFactor);
 }
 
-Expected<FormFactorReport> Session::refineLinks(const CancelToken* cancel) {
+Expected<FormFactorReport> Session::refineLinks(const CancelToken* cancel,
+                                                const ProgressObserver& onProgress) {
     State& s = *state_;
     if (!s.transport || !s.linksImportance) {
         return Error{"refineLinks: the session holds no hierarchical links"};
@@ -620,7 +622,7 @@ Expected<FormFactorReport> Session::refineLinks(const CancelToken* cancel) {
                             "; the edit is solved on the links in hand")};
     }
     finishCacheWrite();  // the cache store of the old links holds them until it ends
-    return buildHierarchical(s.settings.backend, cancel, true);
+    return buildHierarchical(s.settings.backend, cancel, true, onProgress);
 }
 
 bool Session::hasFormFactors() const {

@@ -205,9 +205,11 @@ public:
     void setFormFactors(SparseMatrix matrix);
     // The hierarchical transport on `backend` (only cpu evaluates links so far); with
     // `useCache` (buildFormFactors: not the uncached build) read from and stored in the disk
-    // cache's links entries (pipeline/links_cache.h).
+    // cache's links entries (pipeline/links_cache.h). `onProgress` is told of the stages
+    // "links" (the refinement) and "near factors".
     Expected<FormFactorReport> buildHierarchical(const std::string& backend,
-                                                 const CancelToken* cancel, bool useCache);
+                                                 const CancelToken* cancel, bool useCache,
+                                                 const ProgressObserver& onProgress = {});
     // With the hierarchical transport: true when an edit since its links were refined moved
     // light where they may be too coarse for the oracle (importanceGrew, hierarchical/
     // link_oracle.h, with kRelinkFactor), such as a new emitter or a dark cavity made bright.
@@ -217,7 +219,8 @@ public:
     // them, or a build) and replaces the transport; the solution stays as the warm start. The
     // old links are kept until the new ones are ready, so both count against --max-memory. A
     // cancelled or refused refinement keeps the old links.
-    Expected<FormFactorReport> refineLinks(const CancelToken* cancel = nullptr);
+    Expected<FormFactorReport> refineLinks(const CancelToken* cancel = nullptr,
+                                           const ProgressObserver& onProgress = {});
 
     // ---- edits (F untouched) ----
     // Replaces material `index` and rebuilds E and M; the solution is kept as the warm start.

@@ -251,10 +251,13 @@ void SolveWorker::refineLinksIfOutdated() {
         const uint64_t version = progress_.version;
         progress_ = BuildProgress{};
         progress_.active = true;
-        progress_.stage = "refining the links";
+        progress_.stage = "refining the links";  // then each stage of the build
         progress_.version = version + 1;
     }
-    auto refined = session_.refineLinks(&cancel_);
+    auto refined = session_.refineLinks(
+        &cancel_, [this](std::string_view stage, uint64_t done, uint64_t total) {
+            observeBuild(concat("refining the ", stage), done, total);
+        });
     {
         std::lock_guard lock(mutex_);
         progress_.active = false;

@@ -9,6 +9,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
+#include <string>
 
 #include "pipeline/session.h"
 #include "radiosity/solver_test_util.h"
@@ -285,6 +288,32 @@ TEST(HierarchicalTransport, TheLinksCacheRestoresTheTransportExactly) {
 
 // Per patch: its near factors plus the far half-links of its leaf and of every ancestor (the
 // links whose transport reaches it); {mean, largest}.
+// The build reports its two stages, the refinement ("links") and the near factors, each ending
+// at its total, to the observer a front end draws its progress bar from (the viewer's).
+TEST(HierarchicalTransport, TheBuildReportsItsProgress) {
+    SessionSettings settings = cornellSettings(0.15);
+    settings.transport = TransportKind::Hierarchical;
+    auto session = Session::open(settings);
+    ASSERT_TRUE(session.ok()) << session.error().message;
+    std::mutex mutex;
+    std::map<std::string, std::pair<uint64_t, uint64_t>> last;  // stage: done, total
+    ASSERT_TRUE(session
+                    ->buildFormFactors(nullptr,
+                                       [&](std::string_view stage, uint64_t done, uint64_t total) {
+                                           const std::lock_guard lock(mutex);
+                                           auto& entry = last[std::string(stage)];
+                                           EXPECT_GE(done, entry.first) << stage;
+                                           entry = {done, total};
+                                       })
+                    .ok());
+    ASSERT_EQ(last.size(), 2u);
+    for (const char* stage : {"links", "near factors"}) {
+        ASSERT_TRUE(last.count(stage)) << stage;
+        EXPECT_GT(last[stage].second, 0u) << stage;
+        EXPECT_EQ(last[stage].first, last[stage].second) << stage;
+    }
+}
+
 // An edit that moves light (the red wall made a lamp as strong as the ceiling's) leaves links
 // refined for the old light too coarse around it: the session says so, and refines them again
 // to exactly the links a fresh session with the edited material builds (the same B bit for
