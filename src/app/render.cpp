@@ -19,6 +19,7 @@
 #include "core/progress.h"
 #include "core/strings.h"
 #include "core/timer.h"
+#include "hierarchical/hierarchical_transport.h"
 #include "image/camera.h"
 #include "image/exposure.h"
 #include "image/image_io.h"
@@ -62,16 +63,32 @@ void addBackground(Image& linearSrgb, const Image& rendered, int coverageChannel
     }
 }
 
-// One line on what the run did not compute: pairs culled without rays, the wavelengths'
-// independence, UV samples left out.
-std::string skippedSummary(const Session& session, const FormFactorReport& formFactors) {
+// What the view factors skipped: with the matrix F, the pairs culled without rays; with the
+// hierarchical links, the patch pairs they stand for without a factor of their own.
+std::string skippedViewFactors(const Session& session, const FormFactorReport& formFactors) {
+    if (const auto* links = dynamic_cast<const HierarchicalTransport*>(&session.transport())) {
+        const LinkStats& l = links->links().stats;
+        const uint64_t n = session.patches().patchCount();
+        return concat("skipped: ", percentOf(n * n - l.nearEntries, n * n),
+                      " of the patch pairs have no factor of their own (", formatCount(l.farLinks),
+                      " far links between nodes stand for them; ", formatCount(l.nearEntries),
+                      " near factors); ", formatCount(l.hidden), " node pairs found hidden and ",
+                      formatCount(l.facingAway), " facing away, with ", formatCount(l.raysCast),
+                      " far-link rays");
+    }
     const FormFactorStats& s = formFactors.stats;
-    std::string text = concat(
-        formFactors.fromCache ? "(the cached build) " : "",
-        "skipped: ", percentOf(s.facingAway, s.pairs), " of patch pairs facing away, ",
-        percentOf(s.clearClusterShafts + s.clearPairShafts, s.pairs), " with a clear shaft and ",
-        percentOf(s.coveredPairs, s.pairs), " covered (no rays); ",
-        percentOf(s.tracedPairs, s.pairs), " traced with ", formatCount(s.raysCast), " rays");
+    return concat("skipped: ", percentOf(s.facingAway, s.pairs), " of patch pairs facing away, ",
+                  percentOf(s.clearClusterShafts + s.clearPairShafts, s.pairs),
+                  " with a clear shaft and ", percentOf(s.coveredPairs, s.pairs),
+                  " covered (no rays); ", percentOf(s.tracedPairs, s.pairs), " traced with ",
+                  formatCount(s.raysCast), " rays");
+}
+
+// One line on what the run did not compute: the view factors' work left out, the
+// wavelengths' independence, UV samples left out.
+std::string skippedSummary(const Session& session, const FormFactorReport& formFactors) {
+    std::string text = concat(formFactors.fromCache ? "(the cached build) " : "",
+                              skippedViewFactors(session, formFactors));
     if (session.fluorescentOperatorCount() == 0) {
         text += "; no fluorescence: the wavelengths were solved independently";
     }

@@ -22,7 +22,8 @@ const std::string kCornellBox = test::assetPath("scenes/cornell_box.gltf");
 // --link-tolerance 1e-10, where every link is a near one and B agrees to 1e-3: the rest sits at
 // the foot of the blocks, where the near links' factors (rays for every pair) and F's (shafts
 // decide some pairs without rays) give partly buried patches different row sums, which the
-// exposed-parts correction uses (docs/hierarchical.md, "Accuracy").
+// exposed-parts correction uses (docs/hierarchical.md, "Accuracy"). The "skipped:" summary
+// speaks of the transport the render took.
 TEST(TransportCli, HierarchicalRendersTheMatrixPathsPicture) {
     const auto dir = test::testTempDir();
     Image images[2];
@@ -33,6 +34,12 @@ TEST(TransportCli, HierarchicalRendersTheMatrixPathsPicture) {
             runDaisy("render " + kCornellBox + " --subdivide 0.05 --width 80 --height 60" +
                      " --exposure 0 --no-cache --transport " + transports[k] + " -o " + out);
         ASSERT_EQ(run.status, 0) << run.output;
+        // The summary says what each transport left out: culled pairs, or pairs the links
+        // stand for.
+        EXPECT_NE(run.output.find(k == 0 ? " of patch pairs facing away, "
+                                         : " of the patch pairs have no factor of their own ("),
+                  std::string::npos)
+            << run.output;
         auto image = readPfm(out);
         ASSERT_TRUE(image.ok()) << image.error().message;
         images[k] = std::move(*image);
