@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/check.h"
+#include "core/disjoint_sets.h"
 #include "core/strings.h"
 #include "geometry/shared_vec.h"
 #include "radiosity/gather_kernels.h"
@@ -329,29 +330,6 @@ namespace {
 // dark.
 constexpr double kOpenSceneShare = 1e-4;
 
-// The regions of the survey: patches joined by a ray from one landing on the front of the
-// other (union-find with path halving). The inside of a closed double-sided room is one region;
-// its walls' outer faces, whose rays all escape, are others, and do not open it.
-class Regions {
-public:
-    explicit Regions(std::size_t n) : parent_(n) {
-        for (std::size_t i = 0; i < n; ++i)
-            parent_[i] = uint32_t(i);
-    }
-    uint32_t find(uint32_t i) {
-        while (parent_[i] != i)
-            i = parent_[i] = parent_[parent_[i]];
-        return i;
-    }
-    void join(uint32_t a, uint32_t b) {
-        a = find(a), b = find(b);
-        if (a != b) parent_[std::max(a, b)] = std::min(a, b);
-    }
-
-private:
-    std::vector<uint32_t> parent_;
-};
-
 struct PatchSurvey {
     std::vector<uint8_t> enclosed;  // per patch: its row must sum to 1
     std::vector<uint8_t> reached;  // per patch: light can reach it
@@ -434,7 +412,10 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
                 survey.enclosed[i] = closed;
             }
         });
-    Regions regions(n);
+    // Regions: patches joined by a ray from one landing on the front of the other. The inside
+    // of a closed double-sided room is one region; its walls' outer faces, whose rays all
+    // escape, are others, and do not open it.
+    DisjointSets regions(n);
     for (std::size_t r = 0; r < lands.size(); ++r) {
         if (lands[r] != kNoPatch) regions.join(uint32_t(r / kEnclosureRays), lands[r]);
     }

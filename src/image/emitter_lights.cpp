@@ -4,10 +4,10 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <numeric>
 #include <utility>
 
 #include "core/check.h"
+#include "core/disjoint_sets.h"
 #include "geometry/bounds.h"
 #include "shared/formfactor.h"
 
@@ -19,15 +19,6 @@ namespace {
 // are within kPlaneTolerance of the emitters' bounding-box diagonal are coplanar.
 constexpr double kCollinearSine = 1e-4;
 constexpr double kPlaneTolerance = 1e-5;
-
-// Union-find root with path halving.
-uint32_t root(std::vector<uint32_t>& parent, uint32_t i) {
-    while (parent[i] != i) {
-        parent[i] = parent[parent[i]];
-        i = parent[i];
-    }
-    return i;
-}
 
 // The convex loop (vertex ids, counter-clockwise about `normal`) bounding the group `members`
 // (indices into `corners`), or empty when the boundary is not one simple convex loop whose area
@@ -109,8 +100,7 @@ std::vector<LightTriangle> mergeEmitterFaces(const TriangleMesh& mesh,
     for (const Vec3d& p : points)
         bounds.extend(p);
     const double planeTolerance = points.empty() ? 0 : kPlaneTolerance * bounds.diagonal();
-    std::vector<uint32_t> parent(count);
-    std::iota(parent.begin(), parent.end(), 0u);
+    DisjointSets sets(count);
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> edgeOwner;  // undirected edge -> triangle
     for (uint32_t i = 0; i < count; ++i) {
         if (!(areas[i] > 0)) continue;
@@ -121,14 +111,13 @@ std::vector<LightTriangle> mergeEmitterFaces(const TriangleMesh& mesh,
             const uint32_t j = it->second;
             const bool coplanar = dot(normals[i], normals[j]) >= 1 - 1e-6 &&
                 std::abs(dot(normals[i], points[ids[j][0]] - points[ids[i][0]])) <= planeTolerance;
-            if (coplanar && emissionClass[i] == emissionClass[j])
-                parent[root(parent, i)] = root(parent, j);
+            if (coplanar && emissionClass[i] == emissionClass[j]) sets.join(i, j);
         }
     }
     std::vector<std::vector<uint32_t>> groups;
     std::vector<int> groupOf(count, -1);
     for (uint32_t i = 0; i < count; ++i) {
-        const uint32_t r = root(parent, i);
+        const uint32_t r = sets.find(i);
         if (groupOf[r] < 0) {
             groupOf[r] = int(groups.size());
             groups.emplace_back();
