@@ -52,36 +52,45 @@ struct Light {
     uint32_t spectrum;  // lights with equal emission share it: 0, 1, ... in order of appearance
 };
 
-// The emitting source triangles of the scene, coplanar faces merged (image/emitter_lights.h);
-// `emission` is ownEmission(system), which the lights point into.
+// The emitting faces of the scene, coplanar faces merged (image/emitter_lights.h); `emission`
+// is ownEmission(system), which the lights point into. A double-sided emitter's back patch
+// emits too (as the solve has it): its lights are the same merged faces with their corners
+// reversed. Without them a Blender-style emissive panel whose front faced away from the room
+// lit the smooth solution but not the gathered image (a hall lit through windows by such
+// panels came out 40% darker than the path tracer).
 std::vector<Light> lightsOf(const Scene& scene, const PatchMesh& patches,
                             const RadiositySystem& system, std::span<const double> emission) {
     const std::size_t m = system.wavelengthCount;
-    std::vector<uint32_t> triangles, emissionClass;
-    std::vector<uint32_t> patchOf(scene.mesh.triangleCount(), kNoPatch);
-    std::vector<uint32_t> classOf(scene.mesh.triangleCount(), 0);
     std::map<std::vector<double>, uint32_t> classes;
-    for (uint32_t p = 0; p < patches.patchCount(); ++p) {
-        const uint32_t t = patches.sourceTriangle[p];
-        if (patchOf[t] != kNoPatch || !emits(emission, m, p)) continue;
-        patchOf[t] = p;
-        triangles.push_back(t);
-        const double* e = emission.data() + std::size_t(p) * m;
-        emissionClass.push_back(
-            classes.emplace(std::vector<double>(e, e + system.wavelengthCount), classes.size())
-                .first->second);
-        classOf[t] = emissionClass.back();
-    }
     std::vector<Light> lights;
-    for (const LightTriangle& light : mergeEmitterFaces(scene.mesh, triangles, emissionClass)) {
-        const double* e = emission.data() + std::size_t(patchOf[light.sourceTriangle]) * m;
-        double power = 0;
-        for (std::size_t k = 0; k < m; ++k)
-            power += e[k] * system.binWidthsNm[k];
-        lights.push_back(
-            {shared::makePatchGeometry(toVec3(light.corners[0]), toVec3(light.corners[1]),
-                                       toVec3(light.corners[2])),
-             e, power, classOf[light.sourceTriangle]});
+    for (const bool back : {false, true}) {
+        std::vector<uint32_t> triangles, emissionClass;
+        std::vector<uint32_t> patchOf(scene.mesh.triangleCount(), kNoPatch);
+        std::vector<uint32_t> classOf(scene.mesh.triangleCount(), 0);
+        for (uint32_t p = 0; p < patches.patchCount(); ++p) {
+            const uint32_t twin = patches.backPatch[p];
+            const bool isBack = twin != kNoBackPatch && twin < p;  // backs follow all fronts
+            const uint32_t t = patches.sourceTriangle[p];
+            if (isBack != back || patchOf[t] != kNoPatch || !emits(emission, m, p)) continue;
+            patchOf[t] = p;
+            triangles.push_back(t);
+            const double* e = emission.data() + std::size_t(p) * m;
+            emissionClass.push_back(
+                classes.emplace(std::vector<double>(e, e + m), classes.size()).first->second);
+            classOf[t] = emissionClass.back();
+        }
+        for (const LightTriangle& light :
+             mergeEmitterFaces(scene.mesh, triangles, emissionClass)) {
+            const double* e = emission.data() + std::size_t(patchOf[light.sourceTriangle]) * m;
+            double power = 0;
+            for (std::size_t k = 0; k < m; ++k)
+                power += e[k] * system.binWidthsNm[k];
+            const Vec3d& b = light.corners[back ? 2 : 1];
+            const Vec3d& c = light.corners[back ? 1 : 2];
+            lights.push_back({shared::makePatchGeometry(toVec3(light.corners[0]), toVec3(b),
+                                                        toVec3(c)),
+                              e, power, classOf[light.sourceTriangle]});
+        }
     }
     return lights;
 }

@@ -153,6 +153,31 @@ TEST(FinalGather, ParallelPlatesMatchThePointToPolygonClosedForm) {
     EXPECT_GT(worstSmooth, 0.03);
 }
 
+// A double-sided source whose front faces away from the receiver (up, as an exporter may leave
+// an emissive panel): its back face emits towards the receiver, in the solve and so in the
+// gathered image, which must match the closed form of the source's downward face as above
+// (with only the front faces as lights, every receiver pixel was 0).
+TEST(FinalGather, TheBackOfADoubleSidedSourceIsGathered) {
+    Plates p = plates();
+    p.scene.mesh = {};
+    verify::addQuad(p.scene.mesh, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, 0);
+    verify::addQuad(p.scene.mesh, p.source[3], p.source[2], p.source[1], p.source[0], 1);
+    p.scene.materials[1].doubleSided = true;
+    Session session = solvedSession(p);
+    RenderSettings settings;
+    settings.width = 48;
+    settings.height = 36;
+    auto gathered =
+        renderRadiosityImage(session, p.camera, settings, GatherMode::Direct, {}, false);
+    ASSERT_TRUE(gathered.ok());
+    const ReceiverError error = receiverError(session, p.camera, *gathered, [&](const Vec3d& x) {
+        return 0.5 * verify::pointToPolygon(x, {0, 0, 1}, p.source) / kPi;
+    });
+    EXPECT_GT(error.pixels, 60);
+    EXPECT_LT(error.rms, 2e-4);
+    EXPECT_NEAR(error.meanRatio, 1, 2e-4);
+}
+
 // The per-patch estimate the viewer shows before F (patchDirectIrradiance): nothing between
 // the plates, so every shadow segment is open and H at a receiver patch's centroid is exactly
 // E F(centroid -> source) (E = 1); the source reflects nothing and gets none.
