@@ -183,8 +183,12 @@ private:
         }
         const double distance = length(s.centroid - r.centroid);
         const Vec3d u = farDirection(r.centroid, s.centroid);
+        // Capped so that neither side's factor F = K cos cos A can pass 1 (kFarEstimateBound):
+        // a pair linked at a wide aperture may have its centroids close together.
         const double coupling =
-            double(open) / count * secondOrder(r, s, u, distance) / (M_PI * distance * distance);
+            std::min(double(open) / count * secondOrder(r, s, u, distance) /
+                         (M_PI * distance * distance),
+                     1 / std::max(r.area, s.area));
         local.far.push_back({pair.r, pair.s, float(coupling)});
         return true;
     }

@@ -103,11 +103,18 @@ LinkDecision chooseLink(const HierarchyNode& r, const HierarchyNode& s, const Li
     }
     const double d = length(s.center - r.center);
     const double rho = r.radius + s.radius;
-    if (rFaces > 0 && sFaces > 0 && d > rho) {
+    const bool apart = d > rho;
+    if (apart) {
         const double gap = d - rho;
         const double coupling = std::min({r.area, s.area, r.area * s.area / (M_PI * gap * gap)});
         decision.power =
             coupling * (weights.sourceS * weights.yieldR + weights.sourceR * weights.yieldS);
+    }
+    // A pair whose whole exchange is within epsilon: a far link's estimate of it lies in
+    // [0, kFarEstimateBound Phi] (hierarchical_links.h), so its error is within epsilon at
+    // any aperture, and at any level: such a pair is never cut down to its leaves.
+    const bool small = apart && kFarEstimateBound * decision.power <= epsilon;
+    if (rFaces > 0 && sFaces > 0 && apart) {
         // Each side's share of the bound: only splitting a side reduces its share, and a leaf
         // cannot be split; its share is the patch's own resolution (the first-order term
         // cancels in the patch's mean and the second-order one is corrected: c in
@@ -121,12 +128,31 @@ LinkDecision chooseLink(const HierarchyNode& r, const HierarchyNode& s, const Li
             decision.choice = LinkChoice::Far;
             return decision;
         }
+        if (small) {
+            decision.error = kFarEstimateBound * decision.power;
+            decision.choice = LinkChoice::Far;
+            return decision;
+        }
         if (rho <= maxAperture * d && !leaves) {
             // Split the side that carries the larger share.
             const bool splitR = !r.isLeaf() && (s.isLeaf() || errorR >= errorS);
             decision.choice = splitR ? LinkChoice::SplitReceiver : LinkChoice::SplitSource;
             return decision;
         }
+    }
+    if (small && r.isPlanar() && s.isPlanar()) {
+        // Two planar nodes, one reaching behind the other's plane (a floor running past a
+        // wall's plane, a neighbouring face of a vault): the far link between their centroids
+        // when each centroid lies in front of the other's plane, else nothing; either is
+        // within epsilon (the far link's cosines come from the centroids' direction, the same
+        // for every patch of a planar node, so none turns negative). Without this such pairs
+        // went down to their leaves as near links: 20 of the 21 M near pairs of the
+        // 30,000-triangle interior, 97% of them under a tenth of epsilon.
+        decision.error = kFarEstimateBound * decision.power;
+        const Vec3d u = s.centroid - r.centroid;
+        const bool inFront = dot(r.coneAxis, u) > 0 && dot(s.coneAxis, u) < 0;
+        decision.choice = inFront ? LinkChoice::Far : LinkChoice::None;
+        return decision;
     }
     // A side that faces the other only in part is what keeps the pair from a far link: split
     // it, not the other, else the other would be cut down to its leaves around a receiver that

@@ -65,10 +65,17 @@ struct LinkWeights {
     double sourceS = 0, yieldS = 0;
 };
 
+// A far link's estimate of a pair's exchange is at most this times the pair's power bound Phi:
+// its coupling K = V c / (pi r^2) has c <= 1.5 and r, the distance of the centroids, at least
+// the gap d - rho between the spheres, and K is capped at 1 / max(A_R, A_S)
+// (hierarchical_links.cpp), so K A_R A_S <= 1.5 min(A_R, A_S, A_R A_S / (pi (d - rho)^2)).
+inline constexpr double kFarEstimateBound = 1.5;
+
 struct LinkDecision {
     LinkChoice choice = LinkChoice::Near;
-    // The power bound Phi (W) and its far-field error bound Phi rho / d; 0 when the spheres
-    // overlap or a side does not wholly face the other (no far link is possible then).
+    // The power bound Phi (W), 0 when the spheres overlap; the bound on a far link's error:
+    // Phi rho / d (the far field's), or kFarEstimateBound Phi for a pair linked because its
+    // whole exchange is within epsilon (at any aperture, or facing the other only in part).
     double power = 0;
     double error = 0;
 };

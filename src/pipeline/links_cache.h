@@ -20,7 +20,7 @@
 namespace daisy {
 
 // Bump when the key's byte stream, the file layout, HierarchyNode, FarLink or LinkStats change.
-inline constexpr uint32_t kLinksCacheVersion = 1;
+inline constexpr uint32_t kLinksCacheVersion = 2;
 
 using LinksKey = Hash128;
 

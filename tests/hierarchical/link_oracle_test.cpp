@@ -58,8 +58,14 @@ TEST(LinkOracle, AFarLinkExactlyWhenTheBoundIsUnderEpsilon) {
     EXPECT_NEAR(at.error, bound, 1e-15);
     EXPECT_EQ(chooseLink(r, s, weights, bound * (1 - 1e-9), 0.25).choice,
               LinkChoice::SplitReceiver);
-    // The aperture: rho / d = 0.141 passes 0.25 and fails 0.1, whatever epsilon.
-    EXPECT_EQ(chooseLink(r, s, weights, 1e9, 0.1).choice, LinkChoice::SplitReceiver);
+    // The aperture: rho / d = 0.141 passes 0.25 and fails 0.1 while the pair's whole exchange
+    // may pass epsilon (kFarEstimateBound Phi); once it cannot, a far link at any aperture.
+    EXPECT_EQ(chooseLink(r, s, weights, power, 0.1).choice, LinkChoice::SplitReceiver);
+    EXPECT_EQ(chooseLink(r, s, weights, kFarEstimateBound * power * (1 - 1e-9), 0.1).choice,
+              LinkChoice::SplitReceiver);
+    const LinkDecision whole = chooseLink(r, s, weights, kFarEstimateBound * power, 0.1);
+    EXPECT_EQ(whole.choice, LinkChoice::Far);
+    EXPECT_NEAR(whole.error, kFarEstimateBound * power, 1e-15);
     // Leaves are split never: two leaves over the bound become a near link.
     const HierarchyNode leafR = square(0, 1, true, 1), leafS = square(10, 1, false, 1);
     EXPECT_EQ(chooseLink(leafR, leafS, weights, bound * 0.5, 0.25).choice, LinkChoice::Near);
@@ -76,6 +82,30 @@ TEST(LinkOracle, PairsFacingAwayOrCoplanarExchangeNothing) {
     EXPECT_EQ(chooseLink(square(0, 1, true), beside, weights, 1e9, 0.25).choice, LinkChoice::None);
     const HierarchyNode wall = wallFacingMinusX(20, 0);  // facing the square
     EXPECT_EQ(chooseLink(square(0, 1, true), wall, weights, 1e9, 0.25).choice, LinkChoice::Far);
+}
+
+// A floor square running past the plane of a wall above it (the wall x = 2, facing -x, from
+// z = 0.5 up; the floor 0 <= x <= 3 at z = -4, facing +z): the wall faces the floor in part.
+// Over epsilon the pair is split (the wall, the side that faces in part); once the pair's whole
+// exchange is within epsilon, a far link when each centroid lies in front of the other's plane
+// (the floor's centroid x = 1.5 is in front of the wall), nothing when one does not (a floor
+// from x = 1.2 to 4.2 has its centroid behind the wall).
+TEST(LinkOracle, APairFacingInPartIsLinkedOnceItsWholeExchangeIsWithinEpsilon) {
+    const LinkWeights weights{1, 1, 1, 1};
+    const HierarchyNode wall = wallFacingMinusX(2, 0.5);
+    const HierarchyNode floor = square(-4, 3, true);
+    HierarchyNode past = floor;
+    past.boxLo.x += 1.2, past.boxHi.x += 1.2, past.center.x += 1.2, past.centroid.x += 1.2;
+    const LinkDecision over = chooseLink(floor, wall, weights, 1e-9, 0.25);
+    EXPECT_EQ(over.choice, LinkChoice::SplitSource);
+    ASSERT_GT(over.power, 0);
+    const double epsilon = kFarEstimateBound * over.power;
+    const LinkDecision linked = chooseLink(floor, wall, weights, epsilon, 0.25);
+    EXPECT_EQ(linked.choice, LinkChoice::Far);
+    EXPECT_NEAR(linked.error, epsilon, 1e-12 * epsilon);
+    EXPECT_EQ(chooseLink(floor, wall, weights, epsilon * (1 - 1e-9), 0.25).choice,
+              LinkChoice::SplitSource);
+    EXPECT_EQ(chooseLink(past, wall, weights, 1e9, 0.25).choice, LinkChoice::None);
 }
 
 // A thick planar slab: the undersides of two shelves facing down (-z), at z = 1 and z = 3, and
