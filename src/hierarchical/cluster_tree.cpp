@@ -35,7 +35,8 @@ void addOuter(double* spread, const Vec3d& e, double weight) {
 
 class Builder {
 public:
-    Builder(const PatchMesh& mesh, ClusterTree& tree) : mesh_(mesh), tree_(tree) {
+    Builder(const PatchMesh& mesh, std::span<const uint8_t> sheltered, ClusterTree& tree)
+        : mesh_(mesh), sheltered_(sheltered), tree_(tree) {
         boxes_.resize(tree.nodes.size());
     }
 
@@ -50,8 +51,11 @@ public:
             makeLeaf(index);
             return;
         }
-        const uint32_t half = count / 2;
-        partition(first, count, half);
+        uint32_t half = shelterSplit(first, count);
+        if (half == 0) {
+            half = count / 2;
+            partition(first, count, half);
+        }
         const uint32_t left = index + 1, right = index + 2 * half;
         node.children[0] = left;
         node.children[1] = right;
@@ -93,6 +97,18 @@ private:
             node.slabLo = std::min(node.slabLo, offset),
             node.slabHi = std::max(node.slabHi, offset);
         }
+    }
+
+    // A node holding both sheltered and open patches (cluster_tree.h) puts its open patches
+    // first, in their order, and returns their count: the split. 0 for a node of one kind.
+    uint32_t shelterSplit(uint32_t first, uint32_t count) {
+        if (sheltered_.empty()) return 0;
+        uint32_t* begin = tree_.order.data() + first;
+        const auto isOpen = [&](uint32_t patch) { return !sheltered_[patch]; };
+        const auto open = static_cast<uint32_t>(std::count_if(begin, begin + count, isOpen));
+        if (open == 0 || open == count) return 0;
+        std::stable_partition(begin, begin + count, isOpen);
+        return open;
     }
 
     // Orders order[first .. first + count) so that the first `half` patches have the smaller
@@ -179,6 +195,7 @@ private:
     }
 
     const PatchMesh& mesh_;
+    std::span<const uint8_t> sheltered_;
     ClusterTree& tree_;
     std::vector<Box> boxes_;
 };
@@ -189,7 +206,7 @@ std::size_t ClusterTree::bytes() const {
     return nodes.size() * sizeof(HierarchyNode) + (order.size() + leafOf.size()) * sizeof(uint32_t);
 }
 
-ClusterTree buildClusterTree(const PatchMesh& mesh) {
+ClusterTree buildClusterTree(const PatchMesh& mesh, std::span<const uint8_t> sheltered) {
     ClusterTree tree;
     const auto n = static_cast<uint32_t>(mesh.patchCount());
     if (n == 0) return tree;
@@ -198,7 +215,7 @@ ClusterTree buildClusterTree(const PatchMesh& mesh) {
     tree.leafOf.resize(n);
     for (uint32_t i = 0; i < n; ++i)
         tree.order[i] = i;
-    Builder(mesh, tree).build(0, 0, n);
+    Builder(mesh, sheltered, tree).build(0, 0, n);
     return tree;
 }
 

@@ -185,10 +185,9 @@ private:
         const Vec3d u = farDirection(r.centroid, s.centroid);
         // Capped so that neither side's factor F = K cos cos A can pass 1 (kFarEstimateBound):
         // a pair linked at a wide aperture may have its centroids close together.
-        const double coupling =
-            std::min(double(open) / count * secondOrder(r, s, u, distance) /
-                         (M_PI * distance * distance),
-                     1 / std::max(r.area, s.area));
+        const double coupling = std::min(
+            double(open) / count * secondOrder(r, s, u, distance) / (M_PI * distance * distance),
+            1 / std::max(r.area, s.area));
         local.far.push_back({pair.r, pair.s, float(coupling)});
         return true;
     }

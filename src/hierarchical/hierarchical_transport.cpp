@@ -329,11 +329,15 @@ namespace {
 // openings left every row of those rooms uncapped from below and the pictures 1.7% and 1.5%
 // dark.
 constexpr double kOpenSceneShare = 1e-4;
+// A patch more than half of whose survey rays end within this share of its size (the square
+// root of its area) is sheltered (cluster_tree.h): something lies on or just over it.
+constexpr double kShelter = 0.25;
 
 struct PatchSurvey {
     std::vector<uint8_t> enclosed;  // per patch: its row must sum to 1
     std::vector<uint8_t> reached;  // per patch: light can reach it
     std::vector<uint8_t> dark;  // per patch: in a region light does not reach (receives none)
+    std::vector<uint8_t> sheltered;  // per patch: most of its rays end within kShelter of it
 };
 
 // kEnclosureRays cosine-distributed rays from area-uniform points of every patch (one hash per
@@ -349,12 +353,14 @@ struct PatchSurvey {
 // - dark: the patches of a closed region (above) with no reached patch: cavities no light
 //   enters, such as the inside of a closed double-sided box standing on the floor, or of a
 //   column's shaft closed by its base and capital. They neither send nor receive: no link
-//   touches them.
+//   touches them;
+// - sheltered: more than half of the patch's rays end (on any face) within kShelter of its size.
 PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
                           const RayCaster& caster, uint32_t seed) {
     const std::size_t n = mesh.patchCount(), wavelengths = system.wavelengthCount;
     PatchSurvey survey;
     survey.enclosed.assign(n, 0);
+    survey.sheltered.assign(n, 0);
     std::vector<uint32_t> lands(n * kEnclosureRays, kNoPatch);  // front hits only
     std::vector<uint8_t> escaped(n, 0);  // per patch: its rays that hit nothing
     tbb::parallel_for(
@@ -381,6 +387,8 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
                 caster.closestHits(rays, hits);
                 // The distance to each hit, from the hit patch's plane.
                 const double contact = 0.01 * std::sqrt(mesh.areas[i]);
+                const double shelter = kShelter * std::sqrt(mesh.areas[i]);
+                int close = 0;
                 bool closed = true;
                 for (int k = 0; k < kEnclosureRays; ++k) {
                     if (hits[k] == kNoPatch) {
@@ -403,6 +411,7 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
                         dot(m, mesh.positions[mesh.patches[hit][0]] - o) / dot(m, d);
                     // A back face returns no light; a face lying on this one
                     // (facing it, closer than 1% of its size) buries it.
+                    close += distance < shelter;
                     const bool front = dot(m, d) < 0;
                     const bool buried =
                         std::abs(distance) < contact && dot(m, mesh.normals[i]) < -0.99;
@@ -410,6 +419,7 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
                     if (front) lands[i * kEnclosureRays + std::size_t(k)] = hit;
                 }
                 survey.enclosed[i] = closed;
+                survey.sheltered[i] = 2 * close > kEnclosureRays;
             }
         });
     // Regions: patches joined by a ray from one landing on the front of the other. The inside
@@ -512,7 +522,7 @@ Expected<std::shared_ptr<const HierarchicalTransport>> buildHierarchicalTranspor
     return arena.execute([&]() -> Expected<std::shared_ptr<const HierarchicalTransport>> {
         const PatchSurvey survey =
             surveyPatches(mesh, system, **caster, static_cast<uint32_t>(settings.seed));
-        ClusterTree tree = buildClusterTree(mesh);
+        ClusterTree tree = buildClusterTree(mesh, survey.sheltered);
         const std::unique_ptr<PairEvaluator> evaluator =
             makeRayPairEvaluator(mesh, settings, **caster);
         auto links =

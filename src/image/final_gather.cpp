@@ -79,17 +79,16 @@ std::vector<Light> lightsOf(const Scene& scene, const PatchMesh& patches,
                 classes.emplace(std::vector<double>(e, e + m), classes.size()).first->second);
             classOf[t] = emissionClass.back();
         }
-        for (const LightTriangle& light :
-             mergeEmitterFaces(scene.mesh, triangles, emissionClass)) {
+        for (const LightTriangle& light : mergeEmitterFaces(scene.mesh, triangles, emissionClass)) {
             const double* e = emission.data() + std::size_t(patchOf[light.sourceTriangle]) * m;
             double power = 0;
             for (std::size_t k = 0; k < m; ++k)
                 power += e[k] * system.binWidthsNm[k];
             const Vec3d& b = light.corners[back ? 2 : 1];
             const Vec3d& c = light.corners[back ? 1 : 2];
-            lights.push_back({shared::makePatchGeometry(toVec3(light.corners[0]), toVec3(b),
-                                                        toVec3(c)),
-                              e, power, classOf[light.sourceTriangle]});
+            lights.push_back(
+                {shared::makePatchGeometry(toVec3(light.corners[0]), toVec3(b), toVec3(c)), e,
+                 power, classOf[light.sourceTriangle]});
         }
     }
     return lights;
