@@ -108,6 +108,36 @@ TEST(LinkOracle, APairFacingInPartIsLinkedOnceItsWholeExchangeIsWithinEpsilon) {
     EXPECT_EQ(chooseLink(past, wall, weights, 1e9, 0.25).choice, LinkChoice::None);
 }
 
+// A curved node (normals within 60 degrees of +z, as a stretch of a vault seen from below) under
+// a square 10 above and 3 aside: every normal faces the direction between the centroids (16.7
+// degrees off the axis), but not every direction to the square's sphere (rho / d = 0.25 adds
+// 14.5 degrees), so over epsilon the curved side is split; once the pair's whole exchange is
+// within epsilon, a far link (every cosine along the centroids' direction is positive).
+TEST(LinkOracle, ACurvedNodeFacingTheCentroidsDirectionIsLinkedWithinEpsilon) {
+    HierarchyNode curved;
+    curved.count = 2;
+    curved.boxLo = {-0.35, -0.35, -0.1};
+    curved.boxHi = {0.35, 0.35, 0.1};
+    curved.center = curved.centroid = {0, 0, 0};
+    curved.radius = 0.5;
+    curved.area = 0.5;
+    curved.coneAxis = {0, 0, 1};
+    curved.coneCos = 0.5;
+    curved.slabLo = -0.5, curved.slabHi = 0.5;
+    ASSERT_FALSE(curved.isPlanar());
+    HierarchyNode above = square(10, 3, false);
+    for (Vec3d* p : {&above.boxLo, &above.boxHi, &above.center, &above.centroid})
+        p->x += 1.5, p->y -= 1.5;
+    const LinkWeights weights{1, 1, 1, 1};
+    const LinkDecision over = chooseLink(curved, above, weights, 1e-12, 0.25);
+    EXPECT_EQ(over.choice, LinkChoice::SplitReceiver);
+    ASSERT_GT(over.power, 0);
+    EXPECT_EQ(chooseLink(curved, above, weights, kFarEstimateBound * over.power, 0.25).choice,
+              LinkChoice::Far);
+    EXPECT_EQ(chooseLink(curved, above, weights, over.power, 0.25).choice,
+              LinkChoice::SplitReceiver);
+}
+
 // A thick planar slab: the undersides of two shelves facing down (-z), at z = 1 and z = 3, and
 // a wall between their heights (x = 0.5, z from 1.5 to 2.5, facing -x): the wall lies behind
 // the upper shelf's plane but in front of the lower one's, so the pair faces in part and must be
