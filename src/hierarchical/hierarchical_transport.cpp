@@ -478,10 +478,11 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
 
 HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengthCount) {
     // Links per patch grow slowly with the patches (docs/performance.md, "Hierarchical
-    // transport"): on the interior generator near factors 266, 339, 421 and far links 265, 272,
-    // 369 at 60,024, 120,000 and 240,016 patches (about n^0.33 and n^0.24); 286 and 421 on the
-    // Blender-style box, 194 and 258 on the default scene. The estimate takes 1.2 times the
-    // interior's fit, and at least 320 and 480.
+    // transport"). The fit below is of an earlier oracle, which cut pairs facing in part down
+    // to near leaf pairs (near factors 266, 339, 421 and far links 265, 272, 369 a patch at
+    // 60,024, 120,000 and 240,016 patches of the interior generator); it now makes 41, 24, 16
+    // and 163, 159, 186 there, and 137 and 248 on the default scene, so the estimate is about
+    // twice what is measured: kept, as a conservative bound, until a fit over more scenes.
     const uint64_t n = mesh.patchCount();
     const double scale = double(n) / 60024.0;
     const double nearPerPatch = std::max(320.0, 1.2 * 266 * std::pow(scale, 0.33));
@@ -497,8 +498,8 @@ HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengt
     // While the links are built, before the transport's own arrays exist, each thread's records
     // (a grown vector holds up to twice them) sit beside their merged copy: 12 bytes a far
     // record and 8 a near pair (about one a near factor), three times over. Measured peaks of whole
-    // renders: 1.0, 2.0, 5.3 and 15.0 GiB at 60,024, 120,000, 240,016 and 500,004 patches of the
-    // interior generator, where this gives 1.6, 3.4, 7.4 and 17.7 GiB.
+    // renders: 0.72, 1.33, 2.73 and 6.72 GiB at 60,024, 120,000, 240,016 and 500,004 patches of
+    // the interior generator, where this gives 1.6, 3.4, 7.4 and 17.7 GiB.
     estimate.peakBytes = std::max(
         estimate.bytes, nodeBytes + estimate.farLinks * 3 * 12 + estimate.nearEntries * 3 * 8);
     return estimate;
