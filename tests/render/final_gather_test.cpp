@@ -68,6 +68,14 @@ Session solvedSession(const Plates& p) {
     return std::move(*session);
 }
 
+// The gathered image (--gather direct) at the default settings.
+Expected<Image> gatheredImage(const Session& session, const Camera& camera, int width, int height) {
+    RenderSettings settings;
+    settings.width = width;
+    settings.height = height;
+    return renderRadiosityImage(session, camera, settings, GatherMode::Direct, {}, false);
+}
+
 // Where the ray through image position (x, y) meets the receiver's plane z = 0.
 Vec3d onReceiverPlane(const Camera& camera, int width, int height, double x, double y) {
     const Ray ray = primaryRay(camera, width, height, x, y);
@@ -163,12 +171,8 @@ TEST(FinalGather, TheBackOfADoubleSidedSourceIsGathered) {
     verify::addQuad(p.scene.mesh, {0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, 0);
     verify::addQuad(p.scene.mesh, p.source[3], p.source[2], p.source[1], p.source[0], 1);
     p.scene.materials[1].doubleSided = true;
-    Session session = solvedSession(p);
-    RenderSettings settings;
-    settings.width = 48;
-    settings.height = 36;
-    auto gathered =
-        renderRadiosityImage(session, p.camera, settings, GatherMode::Direct, {}, false);
+    const Session session = solvedSession(p);
+    const auto gathered = gatheredImage(session, p.camera, 48, 36);
     ASSERT_TRUE(gathered.ok());
     const ReceiverError error = receiverError(session, p.camera, *gathered, [&](const Vec3d& x) {
         return 0.5 * verify::pointToPolygon(x, {0, 0, 1}, p.source) / kPi;
@@ -209,24 +213,20 @@ TEST(FinalGather, PatchDirectIrradianceIsThePointToPolygonFactorAtTheCentroid) {
 TEST(FinalGather, PathTracerAgreesWithTheGatheredPlates) {
     const Plates p = plates();
     Session session = solvedSession(p);
-    RenderSettings settings;
-    settings.width = 16;
-    settings.height = 12;
-    auto gathered =
-        renderRadiosityImage(session, p.camera, settings, GatherMode::Direct, {}, false);
+    const auto gathered = gatheredImage(session, p.camera, 16, 12);
     ASSERT_TRUE(gathered.ok());
     PathTraceSettings trace;
-    trace.width = settings.width;
-    trace.height = settings.height;
+    trace.width = gathered->width;
+    trace.height = gathered->height;
     trace.samplesPerPixel = 1024;
     trace.showProgress = false;
     auto traced = pathTrace(p.scene, session.wavelengths(), p.camera, trace);
     ASSERT_TRUE(traced.ok()) << traced.error().message;
     double sumGathered = 0, sumTraced = 0, variance = 0;
-    for (int y = 0; y < settings.height; ++y) {
-        for (int x = 0; x < settings.width; ++x) {
+    for (int y = 0; y < gathered->height; ++y) {
+        for (int x = 0; x < gathered->width; ++x) {
             Vec3d point;
-            if (!receiverPoint(p.camera, settings.width, settings.height, x, y, point)) continue;
+            if (!receiverPoint(p.camera, gathered->width, gathered->height, x, y, point)) continue;
             sumGathered += gathered->at(x, y)[1];
             sumTraced += traced->image.at(x, y)[1];
             variance += *traced->varianceY.at(x, y);
