@@ -328,7 +328,9 @@ def lamp(density):
 
 
 def sky_window():
-    """The sky seen through a window: a panel 1 m outside it, 1 m larger each way, facing in."""
+    """The sky seen through a window: a panel 1 m outside it, 1 m larger each way. Its front
+    faces out (+x); it lights the hall with its back face, through the material's doubleSided,
+    as an exported emissive plane often does (docs/rendering.md, the final gather's lights)."""
     part = Part()
     half, y0, y1 = WINDOW_HALF_W + 1.0, WINDOW_Y0 - 1.0, WINDOW_Y1 + 1.0
     part.grid(lambda u, v: (0.0, lerp(y0, y1, u), lerp(-half, half, v)), 1, 1)
