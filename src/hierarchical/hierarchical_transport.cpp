@@ -477,16 +477,19 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
 }  // namespace
 
 HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengthCount) {
-    // Links per patch grow slowly with the patches (docs/performance.md, "Hierarchical
-    // transport"). The fit below is of an earlier oracle, which cut pairs facing in part down
-    // to near leaf pairs (near factors 266, 339, 421 and far links 265, 272, 369 a patch at
-    // 60,024, 120,000 and 240,016 patches of the interior generator); it now makes 41, 24, 16
-    // and 163, 159, 186 there, and 137 and 248 on the default scene, so the estimate is about
-    // twice what is measured: kept, as a conservative bound, until a fit over more scenes.
+    // Links per patch (docs/performance.md, "Hierarchical transport"): near factors 41, 24, 16
+    // and 12 and far links 163, 159, 186 and 268 at 60,024, 120,000, 240,016 and 500,004
+    // patches of the interior generator (far links growing as about n^0.5 at its largest
+    // sizes); near 161, 230, 137, 59 and 60 and far 172, 238, 248, 210 and 376 on the Cornell
+    // box, the coloured lights, the default scene, the double-sided and the single-sided
+    // Blender-style box. Near factors a patch fall as about n^-0.5 over all of those (finer
+    // patches are linked far sooner); the estimate takes 1.2 times the coloured lights' on
+    // that law (at most every patch), and 1.2 times the largest far count, 450 a patch, or the
+    // interior's growth past it.
     const uint64_t n = mesh.patchCount();
-    const double scale = double(n) / 60024.0;
-    const double nearPerPatch = std::max(320.0, 1.2 * 266 * std::pow(scale, 0.33));
-    const double farPerPatch = std::max(480.0, 1.2 * 265 * std::pow(scale, 0.24));
+    const double nearPerPatch =
+        std::min(double(n), 1.2 * 230 * std::sqrt(3854.0 / std::max<double>(1, double(n))));
+    const double farPerPatch = std::max(450.0, 1.2 * 268 * std::sqrt(double(n) / 500004.0));
     HierarchyEstimate estimate;
     estimate.nearEntries = static_cast<uint64_t>(double(n) * nearPerPatch);
     estimate.farLinks = static_cast<uint64_t>(double(n) * farPerPatch);
@@ -499,7 +502,7 @@ HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengt
     // (a grown vector holds up to twice them) sit beside their merged copy: 12 bytes a far
     // record and 8 a near pair (about one a near factor), three times over. Measured peaks of whole
     // renders: 0.72, 1.33, 2.73 and 6.72 GiB at 60,024, 120,000, 240,016 and 500,004 patches of
-    // the interior generator, where this gives 1.6, 3.4, 7.4 and 17.7 GiB.
+    // the interior generator, where this gives 1.20, 2.35, 4.62 and 9.50 GiB.
     estimate.peakBytes = std::max(
         estimate.bytes, nodeBytes + estimate.farLinks * 3 * 12 + estimate.nearEntries * 3 * 8);
     return estimate;
