@@ -20,19 +20,32 @@ namespace {
 constexpr int kDivisions = 4;  // 4 x 4 = 16 children
 constexpr int kProbeRays = 5;
 
-// Barycentric weights of corners b and c of the 16 children's centroids: (a, b) on the grid of
-// upward children (a + b <= 3), each followed by the downward one beside it (a + b <= 2).
-constexpr std::array<std::array<float, 2>, kPatchQuadraturePoints> kBarycentrics = [] {
-    std::array<std::array<float, 2>, kPatchQuadraturePoints> points{};
+// The 16 children in order: (a, b) on the grid of upward children (a + b <= 3), each followed
+// by the downward one beside it (a + b <= 2). A child's corners, as barycentric weights of the
+// patch's corners b and c, are (a, b), (a + 1, b), (a, b + 1) over kDivisions when upward and
+// (a + 1, b + 1), (a, b + 1), (a + 1, b) when downward.
+struct Child {
+    int a, b;
+    bool down;
+};
+constexpr std::array<Child, kPatchQuadraturePoints> kChildren = [] {
+    std::array<Child, kPatchQuadraturePoints> children{};
     int q = 0;
     for (int a = 0; a < kDivisions; ++a) {
         for (int b = 0; a + b < kDivisions; ++b) {
-            points[std::size_t(q++)] = {(a + 1.0f / 3) / kDivisions, (b + 1.0f / 3) / kDivisions};
-            if (a + b < kDivisions - 1) {
-                points[std::size_t(q++)] = {(a + 2.0f / 3) / kDivisions,
-                                            (b + 2.0f / 3) / kDivisions};
-            }
+            children[std::size_t(q++)] = {a, b, false};
+            if (a + b < kDivisions - 1) children[std::size_t(q++)] = {a, b, true};
         }
+    }
+    return children;
+}();
+
+// Barycentric weights of corners b and c of the children's centroids.
+constexpr std::array<std::array<float, 2>, kPatchQuadraturePoints> kBarycentrics = [] {
+    std::array<std::array<float, 2>, kPatchQuadraturePoints> points{};
+    for (std::size_t q = 0; q < kChildren.size(); ++q) {
+        const float third = kChildren[q].down ? 2.0f / 3 : 1.0f / 3;
+        points[q] = {(kChildren[q].a + third) / kDivisions, (kChildren[q].b + third) / kDivisions};
     }
     return points;
 }();
@@ -42,6 +55,19 @@ constexpr std::array<std::array<float, 2>, kPatchQuadraturePoints> kBarycentrics
 shared::vec3 patchQuadraturePoint(const shared::PatchGeometry& t, int q) {
     const auto [u, v] = kBarycentrics[std::size_t(q)];
     return t.a * (1 - u - v) + t.b * u + t.c * v;
+}
+
+shared::vec3 pointInPatchChild(shared::vec3 a, shared::vec3 b, shared::vec3 c, int q,
+                               shared::vec2 u) {
+    const Child& child = kChildren[std::size_t(q)];
+    const float s = 1.0f / kDivisions, ca = float(child.a) * s, cb = float(child.b) * s;
+    // The child's corners, at barycentric weights (wb, wc) of b and c.
+    const auto at = [&](float wb, float wc) { return a * (1 - wb - wc) + b * wb + c * wc; };
+    if (child.down) {
+        return shared::uniformPointOnTriangle(at(ca + s, cb + s), at(ca, cb + s), at(ca + s, cb),
+                                              u);
+    }
+    return shared::uniformPointOnTriangle(at(ca, cb), at(ca + s, cb), at(ca, cb + s), u);
 }
 
 Expected<PatchExposure> patchExposure(const PatchMesh& patches) {

@@ -24,6 +24,12 @@ inline constexpr int kPatchQuadraturePoints = 16;
 // level-2 midpoint subdivision.
 shared::vec3 patchQuadraturePoint(const shared::PatchGeometry& t, int q);
 
+// An area-uniform point of child q (0..15) of triangle (a, b, c)'s level-2 midpoint subdivision,
+// the child whose centroid patchQuadraturePoint gives, for u uniform in [0, 1)^2: a point of a
+// patch's exposed part when q is one of its exposed points.
+shared::vec3 pointInPatchChild(shared::vec3 a, shared::vec3 b, shared::vec3 c, int q,
+                               shared::vec2 u);
+
 struct PatchExposure {
     std::vector<float> fraction;  // phi per patch, in [0, 1]
     std::vector<uint16_t> exposedPoints;  // per patch: bit q set when point q is exposed

@@ -67,5 +67,37 @@ TEST(PatchExposure, EveryPointOfAnOpenSceneIsExposed) {
     }
 }
 
+// The 16 children tile the triangle: a uniform point of child q (pointInPatchChild) lies in the
+// triangle, in the child's own quarter-grid cell, and the children's points average to the
+// child's centroid, patchQuadraturePoint (to the sample mean's accuracy), so sampling a patch's
+// exposed children is sampling its exposed area.
+TEST(PatchExposure, ChildPointsTileThePatchAroundTheQuadraturePoints) {
+    const shared::vec3 a{0, 0, 0}, b{2, 0, 0}, c{0.5f, 1.5f, 0};
+    const shared::PatchGeometry t = shared::makePatchGeometry(a, b, c);
+    constexpr int kSide = 64;  // a 64 x 64 grid of u
+    for (int q = 0; q < kPatchQuadraturePoints; ++q) {
+        const shared::vec3 centroid = patchQuadraturePoint(t, q);
+        double mean[2] = {0, 0};
+        for (int i = 0; i < kSide; ++i) {
+            for (int j = 0; j < kSide; ++j) {
+                const shared::vec2 u((i + 0.5f) / kSide, (j + 0.5f) / kSide);
+                const shared::vec3 x = pointInPatchChild(a, b, c, q, u);
+                // Barycentric weights of b and c (x = a + wb (b - a) + wc (c - a)).
+                const double wc = x.y / 1.5, wb = (x.x - 0.5 * wc) / 2;
+                EXPECT_GE(wb, -1e-6);
+                EXPECT_GE(wc, -1e-6);
+                EXPECT_LE(wb + wc, 1 + 1e-6);
+                // In the child's cell: its corners' weights, in quarters, differ by at most 1.
+                const double cb = (centroid.x - 0.5 * centroid.y / 1.5) / 2, cc = centroid.y / 1.5;
+                EXPECT_LE(std::abs(wb - cb), 0.25 * 2.0 / 3 + 1e-6) << "child " << q;
+                EXPECT_LE(std::abs(wc - cc), 0.25 * 2.0 / 3 + 1e-6) << "child " << q;
+                mean[0] += x.x, mean[1] += x.y;
+            }
+        }
+        EXPECT_NEAR(mean[0] / (kSide * kSide), centroid.x, 2e-3) << "child " << q;
+        EXPECT_NEAR(mean[1] / (kSide * kSide), centroid.y, 2e-3) << "child " << q;
+    }
+}
+
 }  // namespace
 }  // namespace daisy
