@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
 
 #include "core/cancel.h"
@@ -73,9 +74,9 @@ struct Local {
 
 class Refiner {
 public:
-    Refiner(const PatchMesh& mesh, const ClusterTree& tree, const LinkImportance& importance,
-            const HierarchySettings& hierarchy, const FormFactorSettings& settings,
-            const RayCaster& rays)
+    Refiner(const PatchMesh& mesh, const ClusterTree& tree, const PatchExposure& exposure,
+            const LinkImportance& importance, const HierarchySettings& hierarchy,
+            const FormFactorSettings& settings, const RayCaster& rays)
         : tree_(tree),
           hierarchy_(hierarchy),
           rays_(rays),
@@ -96,11 +97,14 @@ public:
         }
         epsilon_ = hierarchy.linkTolerance * importance.totalPower;
         visibilityEpsilon_ = hierarchy.visibilityShare * epsilon_;
-        prefixArea_.resize(tree.order.size() + 1, 0.0);
+        prefixExposed_.resize(tree.order.size() + 1, 0.0);
         corners_.resize(tree.order.size());
+        exposedPoints_.resize(tree.order.size());
         for (std::size_t k = 0; k < tree.order.size(); ++k) {
             const uint32_t patch = tree.order[k];
-            prefixArea_[k + 1] = prefixArea_[k] + mesh.areas[patch];
+            prefixExposed_[k + 1] =
+                prefixExposed_[k] + mesh.areas[patch] * exposure.fraction[patch];
+            exposedPoints_[k] = exposure.exposedPoints[patch];
             for (int c = 0; c < 3; ++c)
                 corners_[k][c] = toVec3(mesh.positions[mesh.patches[patch][c]]);
         }
@@ -147,32 +151,46 @@ private:
     bool far(Pair pair, double phi, Local& local) const {
         const HierarchyNode& r = tree_.nodes[pair.r];
         const HierarchyNode& s = tree_.nodes[pair.s];
+        // The segments start and end on the exposed parts (a buried point, inside a closed
+        // object, sees nothing), and V is the exposed parts' visibility: the gather weighs each
+        // patch by its exposed share (hierarchical_transport.h). Sampled over the whole nodes,
+        // a patch half under a poster would look partly visible from everywhere and be refined
+        // down to single patches, each pair another chance for all its segments to start under
+        // the poster and the pair to be dropped as hidden: such patches lost half their far light.
+        if (!(exposedArea(r) > 0 && exposedArea(s) > 0)) {
+            ++local.stats.hidden;
+            return true;
+        }
         // A link whose partial visibility would not be refined needs only a rough V.
         const bool refinable = 0.5 * phi > visibilityEpsilon_;
         const int count = std::max(1, refinable ? hierarchy_.farRays : hierarchy_.farRays / 2);
         const uint32_t seed = shared::pairSeed(pair.r, pair.s, seed_);
-        // In two batches when the pair may be refined: a first half already partly blocked
-        // decides it (as all of them would), and the second half is not cast.
-        const int first = refinable ? count / 2 : count;
-        int open = 0, cast = 0;
-        for (const int end : {first, count}) {
-            if (end == cast) continue;
-            local.segments.resize(std::size_t(end - cast));
-            local.blocked.assign(std::size_t(end - cast), 0);
-            for (int k = cast; k < end; ++k) {
-                const shared::vec3 x = samplePoint(r, k, count, shared::streamSeed(seed, 2 * k));
+        // A pair that may be refined is shot at in two batches, each stratified over both
+        // nodes: the first decides (partly blocked: refine), the second, independent of that
+        // decision, estimates V. Estimated from the rays that decided it, V would be biased:
+        // a partly visible pair is kept only when all its segments got through (as V = 1), and
+        // dropped only when none did.
+        const int batches = refinable && count >= 2 ? 2 : 1;
+        const int size = count / batches;
+        int open = 0;
+        for (int batch = 0; batch < batches; ++batch) {
+            local.segments.resize(std::size_t(size));
+            local.blocked.assign(std::size_t(size), 0);
+            for (int k = 0; k < size; ++k) {
+                const uint32_t stream = 2 * uint32_t(batch * size + k);
+                const shared::vec3 x = samplePoint(r, k, size, shared::streamSeed(seed, stream));
                 const shared::vec3 y =
-                    samplePoint(s, (k * 5 + 3) % count, count, shared::streamSeed(seed, 2 * k + 1));
+                    samplePoint(s, (k * 5 + 3) % size, size, shared::streamSeed(seed, stream + 1));
                 const shared::vec3 a = x + (y - x) * kSegmentTrim;
                 const shared::vec3 b = y + (x - y) * kSegmentTrim;
-                local.segments.set(std::size_t(k - cast), a.x, a.y, a.z, b.x, b.y, b.z);
+                local.segments.set(std::size_t(k), a.x, a.y, a.z, b.x, b.y, b.z);
             }
             rays_.occluded(local.segments, local.blocked);
-            local.stats.raysCast += uint64_t(end - cast);
+            local.stats.raysCast += uint64_t(size);
+            open = 0;
             for (uint8_t b : local.blocked)
                 open += b == 0;
-            cast = end;
-            if (open > 0 && open < cast && refinable) {
+            if (batch + 1 < batches && open > 0 && open < size) {
                 ++local.stats.partlyVisibleRefined;
                 return false;
             }
@@ -186,25 +204,40 @@ private:
         // Capped so that neither side's factor F = K cos cos A can pass 1 (kFarEstimateBound):
         // a pair linked at a wide aperture may have its centroids close together.
         const double coupling = std::min(
-            double(open) / count * secondOrder(r, s, u, distance) / (M_PI * distance * distance),
+            double(open) / size * secondOrder(r, s, u, distance) / (M_PI * distance * distance),
             1 / std::max(r.area, s.area));
         local.far.push_back({pair.r, pair.s, float(coupling)});
         return true;
     }
 
-    // Point k of `count` on node `node`, area-uniform: the patch by stratified area, then a
-    // uniform point on it (shared/sampling.h).
+    // The node's exposed area (radiosity/patch_exposure.h).
+    double exposedArea(const HierarchyNode& node) const {
+        return prefixExposed_[node.first + node.count] - prefixExposed_[node.first];
+    }
+
+    // Point k of `count` on node `node`'s exposed part, area-uniform: the patch by stratified
+    // exposed area, then a uniform point on it, or on one of its exposed children when part of
+    // it is buried (shared/sampling.h, radiosity/patch_exposure.h).
     shared::vec3 samplePoint(const HierarchyNode& node, int k, int count, uint32_t seed) const {
-        const double lo = prefixArea_[node.first], hi = prefixArea_[node.first + node.count];
+        const double lo = prefixExposed_[node.first], hi = prefixExposed_[node.first + node.count];
         const double t = (k + shared::hashToUnitFloat(0, seed)) / count;
         const double target = lo + (hi - lo) * t;
-        auto it = std::upper_bound(prefixArea_.begin() + node.first + 1,
-                                   prefixArea_.begin() + node.first + node.count, target);
-        const auto index = static_cast<std::size_t>(it - prefixArea_.begin()) - 1;
+        auto it = std::upper_bound(prefixExposed_.begin() + node.first + 1,
+                                   prefixExposed_.begin() + node.first + node.count, target);
+        const auto index = static_cast<std::size_t>(it - prefixExposed_.begin()) - 1;
         const std::array<shared::vec3, 3>& c = corners_[index];
-        return shared::uniformPointOnTriangle(
-            c[0], c[1], c[2],
-            shared::vec2(shared::hashToUnitFloat(1, seed), shared::hashToUnitFloat(2, seed)));
+        const shared::vec2 u(shared::hashToUnitFloat(1, seed), shared::hashToUnitFloat(2, seed));
+        const unsigned exposed = exposedPoints_[index];
+        const int points = std::popcount(exposed);
+        if (points == kPatchQuadraturePoints || points == 0) {
+            return shared::uniformPointOnTriangle(c[0], c[1], c[2], u);
+        }
+        // The j-th exposed child, j uniform.
+        unsigned rest = exposed;
+        for (int j = std::min(points - 1, int(shared::hashToUnitFloat(3, seed) * points)); j > 0;
+             --j)
+            rest &= rest - 1;
+        return pointInPatchChild(c[0], c[1], c[2], std::countr_zero(rest), u);
     }
 
     const ClusterTree& tree_;
@@ -212,8 +245,9 @@ private:
     const RayCaster& rays_;
     uint32_t seed_;
     std::vector<double> source_, yield_;  // per node: largest source and yield
-    std::vector<double> prefixArea_;  // over tree.order
+    std::vector<double> prefixExposed_;  // exposed area over tree.order
     std::vector<std::array<shared::vec3, 3>> corners_;  // each patch's corners, in tree.order
+    std::vector<uint16_t> exposedPoints_;  // each patch's exposed children, in tree.order
     double epsilon_ = 0;
     double visibilityEpsilon_ = 0;
 };
@@ -301,12 +335,10 @@ Expected<SparseMatrix> evaluateNear(const std::vector<shared::PairIndex>& pairs,
 
 }  // namespace
 
-Expected<HierarchicalLinks> buildHierarchicalLinks(const PatchMesh& mesh, const ClusterTree& tree,
-                                                   const LinkImportance& importance,
-                                                   const HierarchySettings& hierarchy,
-                                                   const FormFactorSettings& settings,
-                                                   PairEvaluator& evaluator,
-                                                   const RayCaster& rays) {
+Expected<HierarchicalLinks> buildHierarchicalLinks(
+    const PatchMesh& mesh, const ClusterTree& tree, const PatchExposure& exposure,
+    const LinkImportance& importance, const HierarchySettings& hierarchy,
+    const FormFactorSettings& settings, PairEvaluator& evaluator, const RayCaster& rays) {
     HierarchicalLinks links;
     const auto n = static_cast<uint32_t>(mesh.patchCount());
     if (n == 0) {
@@ -315,7 +347,7 @@ Expected<HierarchicalLinks> buildHierarchicalLinks(const PatchMesh& mesh, const 
         return links;
     }
     Timer timer;
-    const Refiner refiner(mesh, tree, importance, hierarchy, settings, rays);
+    const Refiner refiner(mesh, tree, exposure, importance, hierarchy, settings, rays);
     tbb::enumerable_thread_specific<Local> locals;
 
     // Breadth first until there is enough parallel work, then each pair's subtree depth first.

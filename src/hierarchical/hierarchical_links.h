@@ -42,6 +42,7 @@
 #include "hierarchical/link_oracle.h"
 #include "radiosity/form_factors.h"
 #include "radiosity/pair_evaluator.h"
+#include "radiosity/patch_exposure.h"
 #include "radiosity/sparse_matrix.h"
 #include "raycast/ray_caster.h"
 
@@ -95,9 +96,11 @@ struct HierarchicalLinks {
 };
 
 // Refines the root's pair with itself; near pairs evaluated by `evaluator` with
-// settings.raysPerPair segments, far links' visibility by `rays`. Deterministic (any thread
-// count). Errors: the evaluator's, or the cancel token's kInterruptedMessage.
+// settings.raysPerPair segments, far links' visibility by `rays` between the patches' exposed
+// parts (`exposure`, of the same patches). Deterministic (any thread count). Errors: the
+// evaluator's, or the cancel token's kInterruptedMessage.
 Expected<HierarchicalLinks> buildHierarchicalLinks(const PatchMesh& mesh, const ClusterTree& tree,
+                                                   const PatchExposure& exposure,
                                                    const LinkImportance& importance,
                                                    const HierarchySettings& hierarchy,
                                                    const FormFactorSettings& settings,

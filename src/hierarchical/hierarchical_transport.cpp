@@ -20,9 +20,13 @@
 namespace daisy {
 
 HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree tree,
-                                             HierarchicalLinks links,
+                                             HierarchicalLinks links, std::vector<float> exposure,
                                              const std::vector<uint8_t>& enclosed)
-    : tree_(std::move(tree)), links_(std::move(links)), normals_(mesh.normals), areas_(mesh.areas) {
+    : tree_(std::move(tree)),
+      links_(std::move(links)),
+      normals_(mesh.normals),
+      areas_(mesh.areas),
+      exposure_(std::move(exposure)) {
     const uint32_t n = links_.near.size;
     prepareGather();
     farScale_.assign(n, 1.0);
@@ -54,6 +58,7 @@ HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, Hierarchical
       links_(std::move(parts.links)),
       normals_(mesh.normals),
       areas_(mesh.areas),
+      exposure_(std::move(parts.exposure)),
       farScale_(std::move(parts.farScale)),
       rowSums_(std::move(parts.rowSums)) {
     if (checkStructure().empty()) prepareGather();
@@ -115,7 +120,8 @@ std::string HierarchicalTransport::checkStructure() const {
     if (std::string near = validateStructure(links_.near); !near.empty()) return near;
     const std::size_t n = links_.near.size, nodes = tree_.nodes.size();
     if (normals_.size() != n || tree_.order.size() != n || tree_.leafOf.size() != n ||
-        farScale_.size() != n || rowSums_.size() != n || nodes != (n > 0 ? 2 * n - 1 : 0)) {
+        farScale_.size() != n || rowSums_.size() != n || exposure_.size() != n ||
+        nodes != (n > 0 ? 2 * n - 1 : 0)) {
         return concat("the tree or the per-patch arrays do not match the ", n, " patches");
     }
     for (std::size_t k = 0; k < nodes; ++k) {
@@ -127,8 +133,11 @@ std::string HierarchicalTransport::checkStructure() const {
         if (!leaf && !inner) return concat("tree node ", k, " is out of range");
     }
     for (std::size_t i = 0; i < n; ++i) {
-        if (!std::isfinite(farScale_[i]) || !std::isfinite(rowSums_[i])) {
-            return concat("patch ", i, " has a far scale or row sum that is not finite");
+        if (!std::isfinite(farScale_[i]) || !std::isfinite(rowSums_[i]) ||
+            !(exposure_[i] >= 0 && exposure_[i] <= 1)) {
+            return concat("patch ", i,
+                          " has a far scale or row sum that is not finite, or an exposed share "
+                          "outside [0, 1]");
         }
     }
     if (links_.farOffsets.size() != nodes + 1) return "far-link offsets do not match the tree";
@@ -162,13 +171,13 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
     pull.resize(size);
     push.assign(size, 0.0);
     const auto at = [m](auto& values, std::size_t slot) { return values.data() + slot * m; };
-    // Pull: children before parents. A planar node holds Q = sum A_j B_j (its P is n Q).
+    // Pull: children before parents. A planar node holds Q = sum A_j phi_j B_j (its P is n Q).
     for (std::size_t k = nodes; k-- > 0;) {
         const HierarchyNode& node = tree_.nodes[k];
         double* p = at(pull, slot_[k]);
         if (node.isLeaf()) {
             const uint32_t patch = tree_.order[node.first];
-            const double a = areas_[patch];
+            const double a = areas_[patch] * exposure_[patch];
             const double* b = radiosity.data() + patch * m;
             for (std::size_t c = 0; c < m; ++c)
                 p[c] = a * b[c];
@@ -242,7 +251,7 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
         const double* j = at(push, slot_[k]);
         if (node.isLeaf()) {
             const uint32_t patch = tree_.order[node.first];
-            const double scale = farScale_[patch];
+            const double scale = farScale_[patch] * exposure_[patch];
             double* g = gathered.data() + patch * m;
             for (std::size_t c = 0; c < m; ++c)
                 g[c] = scale * j[c];
@@ -509,8 +518,8 @@ HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengt
 }
 
 Expected<std::shared_ptr<const HierarchicalTransport>> buildHierarchicalTransport(
-    const PatchMesh& mesh, const RadiositySystem& system, const HierarchySettings& hierarchy,
-    const FormFactorSettings& settings) {
+    const PatchMesh& mesh, const PatchExposure& exposure, const RadiositySystem& system,
+    const HierarchySettings& hierarchy, const FormFactorSettings& settings) {
     if (settings.method == FormFactorMethod::Stochastic) {
         return Error{
             "--transport hierarchical evaluates its links with the kernels of riemann, "
@@ -529,12 +538,12 @@ Expected<std::shared_ptr<const HierarchicalTransport>> buildHierarchicalTranspor
         ClusterTree tree = buildClusterTree(mesh, survey.sheltered);
         const std::unique_ptr<PairEvaluator> evaluator =
             makeRayPairEvaluator(mesh, settings, **caster);
-        auto links =
-            buildHierarchicalLinks(mesh, tree, linkImportance(system, survey.reached, survey.dark),
-                                   hierarchy, settings, *evaluator, **caster);
+        auto links = buildHierarchicalLinks(mesh, tree, exposure,
+                                            linkImportance(system, survey.reached, survey.dark),
+                                            hierarchy, settings, *evaluator, **caster);
         if (!links) return links.error();
-        return std::make_shared<const HierarchicalTransport>(mesh, std::move(tree),
-                                                             std::move(*links), survey.enclosed);
+        return std::make_shared<const HierarchicalTransport>(
+            mesh, std::move(tree), std::move(*links), exposure.fraction, survey.enclosed);
     });
 }
 

@@ -21,6 +21,12 @@
 // the same way, as the matrix path caps F's rows (capRowSums). The near factors are F's own and
 // stay; only a row whose near part alone passes 1 is scaled as a whole.
 //
+// Exposed parts (radiosity/patch_exposure.h): the far links couple the patches' exposed parts,
+// so a patch's far light is weighed by its exposed share phi on both ends, pulled as
+// A_j phi_j B_j and pushed as phi_l n_l . J_l, which is what F's entries hold (its rays from a
+// buried point are blocked): F_ij ~ phi_i phi_j times the exposed parts' factor, patch by
+// patch, also inside a node whose patches are buried to different depths.
+//
 // The patches stay the radiosity patches: every front end (vertex radiance, the final gather,
 // the viewer) works on them unchanged; row(i) gives the near links, the patches close enough
 // to i to need their own factors, which is what the near-field gather asks for.
@@ -46,13 +52,15 @@ struct HierarchicalParts {
     HierarchicalLinks links;
     std::vector<double> farScale;  // per patch
     std::vector<double> rowSums;  // per patch
+    std::vector<float> exposure;  // per patch: phi, the exposed share
 };
 
 class HierarchicalTransport final : public Transport {
 public:
-    // enclosed: per patch, 1 when its row must sum to 1 (empty: no patch known to be).
+    // exposure: per patch, phi (PatchExposure::fraction); enclosed: per patch, 1 when its row
+    // must sum to 1 (empty: no patch known to be).
     HierarchicalTransport(const PatchMesh& mesh, ClusterTree tree, HierarchicalLinks links,
-                          const std::vector<uint8_t>& enclosed = {});
+                          std::vector<float> exposure, const std::vector<uint8_t>& enclosed = {});
     // Restores a transport from what parts() gave for the same patches (checkStructure() tells
     // whether the parts hold together).
     HierarchicalTransport(const PatchMesh& mesh, HierarchicalParts parts);
@@ -78,6 +86,7 @@ public:
     const ClusterTree& tree() const { return tree_; }
     const HierarchicalLinks& links() const { return links_; }
     const std::vector<double>& farScale() const { return farScale_; }
+    const std::vector<float>& exposure() const { return exposure_; }
     // The far links' part of G = T B (n x m, overwritten), rows capped as the near part.
     void farGather(std::span<const double> radiosity, std::size_t wavelengthCount,
                    std::span<double> gathered) const;
@@ -92,6 +101,7 @@ private:
 
     std::vector<Vec3d> normals_;  // per patch
     std::vector<double> areas_;  // per patch
+    std::vector<float> exposure_;  // per patch: phi
     std::vector<Vec3d> orientation_;  // per node: see isPlanar
     std::vector<Vec3d> centroids_;  // per node: HierarchyNode::centroid, packed for the gather
     // The far half-links by receiver, split for the gather (farGather): between two planar
@@ -125,9 +135,10 @@ HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengt
 
 // Builds the tree and the links on the CPU (Embree rays, TBB threads): the oracle weighs the
 // light of `system` (hierarchical/link_oracle.h), the near links are the cpu backend's pair
-// evaluation with `settings` (method, L, K, seed, threads, cancel).
+// evaluation with `settings` (method, L, K, seed, threads, cancel), the far links' visibility
+// is sampled on the patches' exposed parts (`exposure`: patchExposure(mesh)).
 Expected<std::shared_ptr<const HierarchicalTransport>> buildHierarchicalTransport(
-    const PatchMesh& mesh, const RadiositySystem& system, const HierarchySettings& hierarchy,
-    const FormFactorSettings& settings);
+    const PatchMesh& mesh, const PatchExposure& exposure, const RadiositySystem& system,
+    const HierarchySettings& hierarchy, const FormFactorSettings& settings);
 
 }  // namespace daisy

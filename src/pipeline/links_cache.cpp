@@ -39,7 +39,7 @@ bool arrayBytes(const LinksLayout& layout, uint64_t& bytes) {
     }
     bytes = nodes * sizeof(HierarchyNode) + 2 * n * sizeof(uint32_t) + (n + 1) * sizeof(uint64_t) +
         layout.nearEntries * (sizeof(uint32_t) + sizeof(float)) + (nodes + 1) * sizeof(uint64_t) +
-        layout.farHalfLinks * sizeof(FarLink) + 2 * n * sizeof(double);
+        layout.farHalfLinks * sizeof(FarLink) + 2 * n * sizeof(double) + n * sizeof(float);
     return true;
 }
 
@@ -124,7 +124,7 @@ LinksLookup LinksCache::load(const LinksKey& key, const PatchMesh& mesh,
         reader.readArray(links.near.values, layout.nearEntries) &&
         reader.readArray(links.farOffsets, layout.nodes + 1) &&
         reader.readArray(links.far, layout.farHalfLinks) && reader.readArray(parts.farScale, n) &&
-        reader.readArray(parts.rowSums, n);
+        reader.readArray(parts.rowSums, n) && reader.readArray(parts.exposure, n);
     if (!read) return reject(reader.finish());
     if (std::string problem = reader.finish(); !problem.empty()) return reject(problem);
     links.stats = layout.stats;
@@ -170,7 +170,8 @@ std::string LinksCache::store(const LinksKey& key, const HierarchicalTransport& 
                                                   bytesOf(links.farOffsets),
                                                   bytesOf(links.far),
                                                   bytesOf(transport.farScale()),
-                                                  std::as_bytes(transport.rowSums())};
+                                                  std::as_bytes(transport.rowSums()),
+                                                  bytesOf(transport.exposure())};
     const uint64_t limit =
         sizeLimitBytes_ != 0 ? sizeLimitBytes_ : defaultCacheSizeLimit(directory_);
     const uint64_t entryBytes = cacheFileBytes(payload);

@@ -565,7 +565,10 @@ Expected<FormFactorReport> Session::buildHierarchical(const std::string& backend
         }
     }
     FormFactorSettings settings = formFactorSettingsOf(s.settings, cancel, onProgress);
-    auto built = buildHierarchicalTransport(s.patches, s.system, s.settings.hierarchy, settings);
+    auto exposure = this->exposure();
+    if (!exposure) return Error{concat(s.scenePath(), ": ", exposure.error().message)};
+    auto built =
+        buildHierarchicalTransport(s.patches, **exposure, s.system, s.settings.hierarchy, settings);
     if (!built) return withContext(built.error(), s.scenePath());
     ++s.builds;
     const LinkStats& stats = (*built)->links().stats;
