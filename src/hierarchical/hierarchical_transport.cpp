@@ -37,7 +37,9 @@ HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree 
     const std::vector<double> nearSums = daisy::rowSums(links_.near);
     for (uint32_t i = 0; i < n; ++i) {
         const double far = rowSums_[i], near = nearSums[i], sum = far + near;
-        const bool closed = !enclosed.empty() && enclosed[i];
+        const uint8_t kind = enclosed.empty() ? 0 : enclosed[i];
+        const bool closed =
+            kind == kEnclosed || (kind == kEnclosedInOpenRegion && sum >= 1 - kOpenFill);
         rowSums_[i] = sum;
         if (!(sum > 1 || (closed && sum > 0))) continue;
         rowSums_[i] = 1;
@@ -334,16 +336,14 @@ namespace {
 
 // A region of the scene from which at most this share of the survey's rays escape is closed:
 // the rays that do slip through cracks between faces (3 of 246,784 on the black-light box, 1 of
-// 421,888 on the Blender-style box), while any real opening takes far more. Counting those as
-// openings left every row of those rooms uncapped from below and the pictures 1.7% and 1.5%
-// dark.
+// 421,888 on the Blender-style box), while any real opening takes far more.
 constexpr double kOpenSceneShare = 1e-4;
 // A patch more than half of whose survey rays end within this share of its size (the square
 // root of its area) is sheltered (cluster_tree.h): something lies on or just over it.
 constexpr double kShelter = 0.25;
 
 struct PatchSurvey {
-    std::vector<uint8_t> enclosed;  // per patch: its row must sum to 1
+    std::vector<uint8_t> enclosed;  // per patch: kEnclosed, kEnclosedInOpenRegion or 0
     std::vector<uint8_t> reached;  // per patch: light can reach it
     std::vector<uint8_t> dark;  // per patch: in a region light does not reach (receives none)
     std::vector<uint8_t> sheltered;  // per patch: most of its rays end within kShelter of it
@@ -351,12 +351,12 @@ struct PatchSurvey {
 
 // kEnclosureRays cosine-distributed rays from area-uniform points of every patch (one hash per
 // ray: independent of the thread count), and what they tell:
-// - enclosed, in a closed region (of the patches joined by these rays, at most kOpenSceneShare
-//   of their rays escape; in an open one a patch that sees a small opening can send all of a
-//   few rays past it): every ray of the patch lands on the front of a patch, none of them a
-//   face lying on it (closer than 1% of its size and facing it): closed around it by surfaces
-//   that face it, and not partly buried (a patch under a block has no well-defined row sum;
-//   the session's exposed parts handle it);
+// - enclosed: every ray of the patch lands on the front of a patch, none of them a face lying
+//   on it (closer than 1% of its size and facing it): closed around it by surfaces that face
+//   it, and not partly buried (a patch under a block has no well-defined row sum; the
+//   session's exposed parts handle it). In an open region (kEnclosedInOpenRegion) such a patch
+//   may still see a small opening all its rays missed (a 3% one is missed by all 32 38% of the
+//   time), and its row is filled only when its links already sum to within kOpenFill of 1;
 // - reached: the patches a path of these rays leads to from an emitter (any patch with
 //   emission, punctual lights' reflections included), by breadth-first search;
 // - dark: the patches of a closed region (above) with no reached patch: cavities no light
@@ -427,13 +427,14 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
                     closed = closed && front && !buried;
                     if (front) lands[i * kEnclosureRays + std::size_t(k)] = hit;
                 }
-                survey.enclosed[i] = closed;
+                survey.enclosed[i] = closed ? kEnclosed : 0;
                 survey.sheltered[i] = 2 * close > kEnclosureRays;
             }
         });
-    // Regions: patches joined by a ray from one landing on the front of the other. The inside
-    // of a closed double-sided room is one region; its walls' outer faces, whose rays all
-    // escape, are others, and do not open it.
+    // Regions: patches joined by a ray from one landing on the front of the other. In an open
+    // one an enclosed patch's row is filled only near 1; a closed one no light reaches is dark.
+    // The inside of a closed double-sided room is one region; its walls' outer faces, whose
+    // rays all escape, are others, and do not open it.
     DisjointSets regions(n);
     for (std::size_t r = 0; r < lands.size(); ++r) {
         if (lands[r] != kNoPatch) regions.join(uint32_t(r / kEnclosureRays), lands[r]);
@@ -448,7 +449,7 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
     for (std::size_t i = 0; i < n; ++i) {
         const uint32_t root = regions.find(uint32_t(i));
         open[root] = double(regionEscapes[root]) > kOpenSceneShare * double(regionRays[root]);
-        if (open[root]) survey.enclosed[i] = 0;
+        if (open[root] && survey.enclosed[i]) survey.enclosed[i] = kEnclosedInOpenRegion;
     }
 
     survey.reached.assign(n, 0);

@@ -323,6 +323,36 @@ TEST(HierarchicalTransport, TheInsideOfADoubleSidedRoomIsClosed) {
         ASSERT_NEAR(solved->radiosity[i], i < inside ? 2.0 : 1.0, 1e-4) << "patch " << i;
 }
 
+// A room with a hole in one wall (one of its 8 x 8 cells): its one region is open (rays escape
+// through the hole), but the patches of the holed wall cannot see the hole, their own plane:
+// every ray of theirs lands, and their rows are filled to exactly 1, as in a closed room,
+// where their links alone sum to 0.95-1 of it (left to the caps, a row over 1 is cut and one
+// under it kept: the far field's noise turns into a loss). Patches that see the hole keep
+// rows under 1.
+TEST(HierarchicalTransport, RowsThatSeeNoOpeningAreFilledInAnOpenRoom) {
+    TriangleMesh triangles = verify::unitCubeRoom(8);
+    // The wall y = 0 is the third face, triangles 256 to 383, two a cell: drop cell (3, 3).
+    const std::size_t hole = 256 + 2 * (3 * 8 + 3);
+    triangles.triangles.erase(triangles.triangles.begin() + std::ptrdiff_t(hole),
+                              triangles.triangles.begin() + std::ptrdiff_t(hole + 2));
+    triangles.materials.erase(triangles.materials.begin() + std::ptrdiff_t(hole),
+                              triangles.materials.begin() + std::ptrdiff_t(hole + 2));
+    const PatchMesh mesh = verify::patchesOf(triangles);
+    const auto transport = build(mesh, greySystem(mesh, 0.5, 1));
+    ASSERT_TRUE(transport);
+    int filled = 0, under = 0;
+    for (uint32_t i = 0; i < mesh.patchCount(); ++i) {
+        const double row = transport->rowSums()[i];
+        if (i >= 256 && i < 382) {
+            EXPECT_EQ(row, 1.0) << "patch " << i << " of the holed wall";
+            filled += row == 1.0;
+        }
+        under += row < 0.999;
+    }
+    EXPECT_EQ(filled, 126);
+    EXPECT_GT(under, 0);
+}
+
 // Jacobi and Gauss-Seidel land on the same B; Southwell, which needs F's columns, says why not.
 TEST(HierarchicalTransport, SolversAgreeAndSouthwellIsRefused) {
     const PatchMesh mesh = verify::patchesOf(verify::parallelSquares(8, 1));
