@@ -115,7 +115,7 @@ TransportStats HierarchicalTransport::stats() const {
                 links_.farOffsets.size() * sizeof(uint64_t) + tree_.bytes() +
                 (orientation_.size() + centroids_.size()) * sizeof(Vec3d) +
                 slot_.size() * sizeof(uint64_t) + (normals_.size() * sizeof(Vec3d)) +
-                2 * areas_.size() * sizeof(double)};
+                2 * areas_.size() * sizeof(double) + exposure_.size() * sizeof(float)};
 }
 
 std::string HierarchicalTransport::checkStructure() const {
