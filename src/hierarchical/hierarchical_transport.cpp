@@ -84,22 +84,36 @@ void HierarchicalTransport::prepareGather() {
         slot_[k + 1] = slot_[k] + (isPlanar(k) ? 1 : 3);
     }
     DAISY_CHECK(slot_[nodes] <= UINT32_MAX);
+    DAISY_CHECK(slot_[nodes] < kPlanarSource);
     // Each receiver's half-links: those between two planar nodes as weights on the source's
-    // slot, -K (u . n_S) (u . n_R); the others by index.
+    // slot, -K (u . n_S) (u . n_R); the others as one vector each, which farGather applies
+    // by the two sides' kinds: a planar source's scalar Q_S gives J += Q_S v with
+    // v = -K (u . n_S) u; a planar receiver's n_R . J takes v . P_S with v = -K (u . n_R) u;
+    // between two other nodes J += -(v . P_S) v with v = sqrt(K) u.
     planarOffsets_.assign(nodes + 1, 0);
     otherOffsets_.assign(nodes + 1, 0);
     for (std::size_t k = 0; k < nodes; ++k) {
         for (uint64_t e = links_.farOffsets[k]; e < links_.farOffsets[k + 1]; ++e) {
             const FarLink& link = links_.far[e];
+            const Vec3d u = farDirection(centroids_[k], centroids_[link.source]);
+            const double coupling = link.coupling;
+            const uint32_t slot = uint32_t(slot_[link.source]);
             if (isPlanar(k) && isPlanar(link.source)) {
-                const Vec3d u = farDirection(centroids_[k], centroids_[link.source]);
-                planarSlots_.push_back(uint32_t(slot_[link.source]));
+                planarSlots_.push_back(slot);
                 planarWeights_.push_back(
-                    float(-double(link.coupling) * dot(u, orientation_[link.source]) *
-                          dot(u, orientation_[k])));
-            } else {
-                otherLinks_.push_back(e);
+                    float(-coupling * dot(u, orientation_[link.source]) * dot(u, orientation_[k])));
+                continue;
             }
+            Vec3d v;
+            if (isPlanar(link.source)) {
+                v = u * (-coupling * dot(u, orientation_[link.source]));
+            } else if (isPlanar(k)) {
+                v = u * (-coupling * dot(u, orientation_[k]));
+            } else {
+                v = u * std::sqrt(coupling);
+            }
+            otherLinks_.push_back({isPlanar(link.source) ? slot | kPlanarSource : slot,
+                                   {float(v.x), float(v.y), float(v.z)}});
         }
         planarOffsets_[k + 1] = planarSlots_.size();
         otherOffsets_[k + 1] = otherLinks_.size();
@@ -110,7 +124,7 @@ TransportStats HierarchicalTransport::stats() const {
     return {links_.near.nonzeroCount() + links_.far.size(),
             links_.near.bytes() + links_.far.size() * sizeof(FarLink) +
                 planarSlots_.size() * (sizeof(uint32_t) + sizeof(float)) +
-                otherLinks_.size() * sizeof(uint64_t) +
+                otherLinks_.size() * sizeof(OtherLink) +
                 2 * planarOffsets_.size() * sizeof(uint64_t) +
                 links_.farOffsets.size() * sizeof(uint64_t) + tree_.bytes() +
                 (orientation_.size() + centroids_.size()) * sizeof(Vec3d) +
@@ -167,8 +181,9 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
     // slot_[k] x m: the same layout for the pull and the push values.
     const std::size_t size = slot_[nodes] * m;
     std::unique_lock lock(workspaceMutex_, std::try_to_lock);
-    std::vector<double> ownPull, ownPush;
-    std::vector<double>& pull = lock.owns_lock() ? pullWorkspace_ : ownPull;
+    std::vector<float> ownPull;
+    std::vector<double> ownPush;
+    std::vector<float>& pull = lock.owns_lock() ? pullWorkspace_ : ownPull;
     std::vector<double>& push = lock.owns_lock() ? pushWorkspace_ : ownPush;
     pull.resize(size);
     push.assign(size, 0.0);
@@ -176,31 +191,31 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
     // Pull: children before parents. A planar node holds Q = sum A_j phi_j B_j (its P is n Q).
     for (std::size_t k = nodes; k-- > 0;) {
         const HierarchyNode& node = tree_.nodes[k];
-        double* p = at(pull, slot_[k]);
+        float* p = at(pull, slot_[k]);
         if (node.isLeaf()) {
             const uint32_t patch = tree_.order[node.first];
             const double a = areas_[patch] * exposure_[patch];
             const double* b = radiosity.data() + patch * m;
             for (std::size_t c = 0; c < m; ++c)
-                p[c] = a * b[c];
+                p[c] = float(a * b[c]);
             continue;
         }
-        const double* p0 = at(pull, slot_[node.children[0]]);
-        const double* p1 = at(pull, slot_[node.children[1]]);
+        const float* p0 = at(pull, slot_[node.children[0]]);
+        const float* p1 = at(pull, slot_[node.children[1]]);
         if (isPlanar(k)) {
             for (std::size_t c = 0; c < m; ++c)
                 p[c] = p0[c] + p1[c];
             continue;
         }
-        std::fill(p, p + 3 * m, 0.0);
+        std::fill(p, p + 3 * m, 0.0f);
         for (const uint32_t child : node.children) {
-            const double* q = at(pull, slot_[child]);
+            const float* q = at(pull, slot_[child]);
             if (!isPlanar(child)) {
                 for (std::size_t c = 0; c < 3 * m; ++c)
                     p[c] += q[c];
                 continue;
             }
-            const Vec3d& n = orientation_[child];
+            const auto n = toVec3(orientation_[child]);
             for (std::size_t c = 0; c < m; ++c)
                 p[c] += n.x * q[c], p[m + c] += n.y * q[c], p[2 * m + c] += n.z * q[c];
         }
@@ -208,8 +223,8 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
     // Links: each receiving node sums its half-links, s = -K (u . P_S) per wavelength; a planar
     // receiver keeps n_R . J = sum s (u . n_R), another J = sum s u. Between two planar nodes
     // that is one weight times Q_S (planarWeights_), summed by the solver's vectorised kernel
-    // in the pairs' fixed order.
-    const AccumulateFn<double> accumulate = accumulateFor<double>(m);
+    // in the pairs' fixed order; the others apply their vector (prepareGather).
+    const AccumulateFn<float> accumulate = accumulateFor<float>(m);
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, nodes, 256),
         [&](const tbb::blocked_range<std::size_t>& range) {
@@ -220,27 +235,22 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
                                planarOffsets_[k + 1], pull.data(), m, j);
                 }
                 const bool planarReceiver = isPlanar(k);
-                const Vec3d& receiverNormal = orientation_[k];
                 for (uint64_t o = otherOffsets_[k]; o < otherOffsets_[k + 1]; ++o) {
-                    const FarLink& link = links_.far[otherLinks_[o]];
-                    const double* __restrict p = at(pull, slot_[link.source]);
-                    const Vec3d u = farDirection(centroids_[k], centroids_[link.source]);
-                    const double coupling = link.coupling;
-                    if (isPlanar(link.source)) {
-                        const double w = -coupling * dot(u, orientation_[link.source]);
+                    const OtherLink& link = otherLinks_[o];
+                    const float* __restrict p = at(pull, link.slot & ~kPlanarSource);
+                    const double x = link.v[0], y = link.v[1], z = link.v[2];
+                    if (link.slot & kPlanarSource) {
                         for (std::size_t c = 0; c < m; ++c) {
-                            const double s = w * p[c];
-                            j[c] += s * u.x, j[m + c] += s * u.y, j[2 * m + c] += s * u.z;
+                            const double q = p[c];
+                            j[c] += x * q, j[m + c] += y * q, j[2 * m + c] += z * q;
                         }
                     } else if (planarReceiver) {
-                        const Vec3d a = u * (-coupling * dot(u, receiverNormal));
                         for (std::size_t c = 0; c < m; ++c)
-                            j[c] += a.x * p[c] + a.y * p[m + c] + a.z * p[2 * m + c];
+                            j[c] += x * p[c] + y * p[m + c] + z * p[2 * m + c];
                     } else {
                         for (std::size_t c = 0; c < m; ++c) {
-                            const double s =
-                                -coupling * (u.x * p[c] + u.y * p[m + c] + u.z * p[2 * m + c]);
-                            j[c] += s * u.x, j[m + c] += s * u.y, j[2 * m + c] += s * u.z;
+                            const double s = -(x * p[c] + y * p[m + c] + z * p[2 * m + c]);
+                            j[c] += s * x, j[m + c] += s * y, j[2 * m + c] += s * z;
                         }
                     }
                 }

@@ -119,17 +119,24 @@ private:
     std::vector<Vec3d> orientation_;  // per node: see isPlanar
     std::vector<Vec3d> centroids_;  // per node: HierarchyNode::centroid, packed for the gather
     // The far half-links by receiver, split for the gather (farGather): between two planar
-    // nodes, the source's slot and the weight -K (u . n_S) (u . n_R); the others' indices into
-    // links_.far.
+    // nodes, the source's slot and the weight -K (u . n_S) (u . n_R); the others with their
+    // direction folded into one vector (OtherLink).
+    struct OtherLink {
+        uint32_t slot;  // the source's slot, kPlanarSource set when the source is planar
+        float v[3];  // -K (u . n_S) u, -K (u . n_R) u, or sqrt(K) u: see prepareGather
+    };
+    static constexpr uint32_t kPlanarSource = 1u << 31;
     std::vector<uint64_t> planarOffsets_, otherOffsets_;  // per node + 1
     std::vector<uint32_t> planarSlots_;
     std::vector<float> planarWeights_;
-    std::vector<uint64_t> otherLinks_;
+    std::vector<OtherLink> otherLinks_;
     std::vector<uint64_t> slot_;  // per node: its far-gather values start at slot_ x m; + end
-    // The far gather's pull and push values, reused by one gather at a time (another
-    // concurrent one allocates its own).
+    // The far gather's pull (float: the links read it at random, so its size is their memory
+    // traffic) and push values, reused by one gather at a time (another concurrent one
+    // allocates its own).
     mutable std::mutex workspaceMutex_;
-    mutable std::vector<double> pullWorkspace_, pushWorkspace_;
+    mutable std::vector<float> pullWorkspace_;
+    mutable std::vector<double> pushWorkspace_;
     std::vector<double> farScale_;  // per patch: the row cap's scale of the far part (1: none)
     std::vector<double> rowSums_;
 };
