@@ -515,7 +515,7 @@ HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengt
     estimate.farLinks = static_cast<uint64_t>(double(n) * farPerPatch);
     const uint64_t nodes = n > 0 ? 2 * n - 1 : 0;
     const uint64_t nodeBytes = nodes * (sizeof(HierarchyNode) + 8 + 2 * sizeof(Vec3d) + 2 * 8) +
-        n * (sizeof(Vec3d) + 2 * sizeof(double) + 8) + 2 * nodes * 3 * wavelengthCount * 8;
+        n * (sizeof(Vec3d) + 2 * sizeof(double) + 8) + nodes * 3 * wavelengthCount * (4 + 8);
     estimate.bytes = sparseMatrixBytes(n, estimate.nearEntries) +
         2 * estimate.farLinks * (sizeof(FarLink) + sizeof(uint32_t) + sizeof(float)) + nodeBytes;
     // While the links are built, before the transport's own arrays exist, each thread's records

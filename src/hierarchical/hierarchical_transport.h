@@ -144,7 +144,7 @@ private:
 // What the transport will hold before it is built, for --max-memory and `daisy info`: the tree,
 // links at the rates measured on the generator's interiors, the Blender-style box and the
 // default scene (growing slowly with the patches), and a gather's work arrays (the pull and
-// push values, 3 m doubles a node each); and what building it holds at its peak, which
+// push values, 3 m floats and 3 m doubles a node); and what building it holds at its peak, which
 // --max-memory is checked against.
 struct HierarchyEstimate {
     uint64_t nearEntries = 0;
