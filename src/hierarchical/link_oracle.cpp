@@ -37,14 +37,28 @@ std::vector<double> weightedColumns(const MaterialOperator& op, const std::vecto
 // Angles are compared with this margin (radians) so rounding never lets a cosine reach 0.
 constexpr double kFacingMargin = 1e-6;
 
-// Whether every normal in the cone of `node` faces every direction within `spread` (radians) of
-// the unit direction u (+1), none does (-1), or some do (0).
-int facingCone(const HierarchyNode& node, const Vec3d& u, double spread) {
+// Whether every normal in the cone of `node` faces every direction within angle sigma of the
+// unit direction u (+1), none does (-1), or some do (0); sinSpread = sin sigma, sigma in
+// [0, pi / 2]. With theta the cone's half angle, alpha the angle of its axis to u and
+// h = theta + sigma: every one when alpha + h < pi / 2 - margin, none when
+// alpha - h > pi / 2 + margin. Both need h + margin < pi / 2, and then read
+// cos alpha > sin(h + margin) and cos alpha < -sin(h + margin): compared in cosines, from the
+// angle sums' sines and cosines, with no inverse trigonometric function (this runs for every
+// node pair the refinement examines).
+int facingCone(const HierarchyNode& node, const Vec3d& u, double sinSpread) {
     if (node.coneCos <= -1) return 0;
-    const double half = std::acos(std::clamp(node.coneCos, -1.0, 1.0)) + spread;
-    const double axis = std::acos(std::clamp(dot(node.coneAxis, u), -1.0, 1.0));
-    if (axis + half < M_PI / 2 - kFacingMargin) return 1;
-    if (axis - half > M_PI / 2 + kFacingMargin) return -1;
+    static const double sinMargin = std::sin(kFacingMargin), cosMargin = std::cos(kFacingMargin);
+    const double cosTheta = std::clamp(node.coneCos, -1.0, 1.0);
+    const double sinTheta = std::sqrt(1 - cosTheta * cosTheta);
+    const double cosSigma = std::sqrt(1 - sinSpread * sinSpread);
+    const double cosH = cosTheta * cosSigma - sinTheta * sinSpread;
+    const double sinH = sinTheta * cosSigma + cosTheta * sinSpread;
+    const double cosLimit = cosH * cosMargin - sinH * sinMargin;  // cos(h + margin)
+    const double sinLimit = sinH * cosMargin + cosH * sinMargin;  // sin(h + margin)
+    if (!(cosLimit > 0 && sinLimit >= 0)) return 0;  // h + margin >= pi / 2
+    const double cosAlpha = dot(node.coneAxis, u);
+    if (cosAlpha > sinLimit) return 1;
+    if (cosAlpha < -sinLimit) return -1;
     return 0;
 }
 
@@ -81,7 +95,7 @@ int facing(const HierarchyNode& r, const HierarchyNode& s) {
     const double d = length(between);
     const double rho = r.radius + s.radius;
     if (!(d > rho)) return 0;
-    return facingCone(r, between / d, std::asin(std::min(1.0, rho / d)));
+    return facingCone(r, between / d, std::min(1.0, rho / d));
 }
 
 }  // namespace
