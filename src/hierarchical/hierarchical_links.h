@@ -31,7 +31,8 @@
 //   power; then, when Phi / 2 exceeds visibilityShare x epsilon, farRays / 2 segments between
 //   the nodes' exposed parts decide: partly blocked, the pair is refined (partial visibility is
 //   a reason to refine); else V comes from farRays / 2 more, independent of that decision; a
-//   smaller pair's V from farRays / 4; V = 0: no link;
+//   smaller pair's V from farRays / 4, or one segment when Phi <= visibilityShare x epsilon;
+//   V = 0: no link;
 // - otherwise the side with the larger sphere is split (a leaf never is); two patches become a
 //   near link.
 #include <cstdint>
@@ -58,7 +59,7 @@ struct HierarchySettings {
     // biases every link of its node the same way. On the black-light box, 1 left the rendered
     // image 10% from the matrix path's (relative RMS luminance), 0.1 2.7%.
     double visibilityShare = 0.1;
-    int farRays = 8;  // shadow segments per far link; a quarter for one not refined for visibility
+    int farRays = 8;  // shadow segments per far link; fewer for one not refined for visibility
     // Largest rho / d of a far link (sphere radii over centre distance): bounds each patch's
     // relative error of the far-field coupling whatever the link's power.
     double maxAperture = 0.25;
