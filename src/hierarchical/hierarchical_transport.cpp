@@ -354,7 +354,7 @@ constexpr double kShelter = 0.25;
 
 struct PatchSurvey {
     std::vector<uint8_t> enclosed;  // per patch: kEnclosed, kEnclosedInOpenRegion or 0
-    std::vector<uint8_t> reached;  // per patch: light can reach it
+    std::vector<uint8_t> lit;  // per patch: in a region with an emitter (light reaches it)
     std::vector<uint8_t> dark;  // per patch: in a region light does not reach (receives none)
     std::vector<uint8_t> sheltered;  // per patch: most of its rays end within kShelter of it
 };
@@ -367,9 +367,11 @@ struct PatchSurvey {
 //   session's exposed parts handle it). In an open region (kEnclosedInOpenRegion) such a patch
 //   may still see a small opening all its rays missed (a 3% one is missed by all 32 38% of the
 //   time), and its row is filled only when its links already sum to within kOpenFill of 1;
-// - reached: the patches a path of these rays leads to from an emitter (any patch with
-//   emission, punctual lights' reflections included), by breadth-first search;
-// - dark: the patches of a closed region (above) with no reached patch: cavities no light
+// - lit: the patches of a region (below: patches joined by these rays) with an emitter in it
+//   (any patch with emission, punctual lights' reflections included). Light reaches every one
+//   of them, also where none of these rays does: a patch whose rays land on a lit patch is seen
+//   by it (the floor of a 2 cm gap under a cupboard, which rays from the room rarely enter);
+// - dark: the patches of a closed region (above) that is not lit: cavities no light
 //   enters, such as the inside of a closed double-sided box standing on the floor, or of a
 //   column's shaft closed by its base and capital. They neither send nor receive: no link
 //   touches them;
@@ -462,33 +464,20 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
         if (open[root] && survey.enclosed[i]) survey.enclosed[i] = kEnclosedInOpenRegion;
     }
 
-    survey.reached.assign(n, 0);
-    std::vector<uint32_t> queue;
+    // Lit: a region with an emitter. Dark: a closed region that is not lit; its own rays land
+    // only inside it, so light from outside has no way in: it receives nothing either. (An
+    // open region with no emitter may still see a lamp its few rays missed.)
+    std::vector<uint8_t> lit(n, 0);  // per region root
     for (std::size_t i = 0; i < n; ++i) {
         const auto e = system.emission.begin() + std::ptrdiff_t(i * wavelengths);
-        if (std::any_of(e, e + std::ptrdiff_t(wavelengths), [](double v) { return v > 0; })) {
-            survey.reached[i] = 1;
-            queue.push_back(uint32_t(i));
-        }
+        if (std::any_of(e, e + std::ptrdiff_t(wavelengths), [](double v) { return v > 0; }))
+            lit[regions.find(uint32_t(i))] = 1;
     }
-    for (std::size_t head = 0; head < queue.size(); ++head) {
-        for (int k = 0; k < kEnclosureRays; ++k) {
-            const uint32_t j = lands[std::size_t(queue[head]) * kEnclosureRays + std::size_t(k)];
-            if (j != kNoPatch && !survey.reached[j]) {
-                survey.reached[j] = 1;
-                queue.push_back(j);
-            }
-        }
-    }
-    // Dark: a closed region none of whose patches light reaches. Its own rays land only inside
-    // it, so light from outside has no way in: it receives nothing either. (An open region
-    // light was not seen to reach may still see a lamp its few rays missed.)
-    std::vector<uint8_t> lit(n, 0);
-    for (std::size_t i = 0; i < n; ++i)
-        lit[regions.find(uint32_t(i))] |= survey.reached[i];
+    survey.lit.assign(n, 0);
     survey.dark.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) {
         const uint32_t root = regions.find(uint32_t(i));
+        survey.lit[i] = lit[root];
         survey.dark[i] = !lit[root] && !open[root];
     }
     return survey;
@@ -550,7 +539,7 @@ Expected<std::shared_ptr<const HierarchicalTransport>> buildHierarchicalTranspor
         const std::unique_ptr<PairEvaluator> evaluator =
             makeRayPairEvaluator(mesh, settings, **caster);
         auto links = buildHierarchicalLinks(mesh, tree, exposure,
-                                            linkImportance(system, survey.reached, survey.dark),
+                                            linkImportance(system, survey.lit, survey.dark),
                                             hierarchy, settings, *evaluator, **caster);
         if (!links) return links.error();
         return std::make_shared<const HierarchicalTransport>(

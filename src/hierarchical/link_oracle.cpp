@@ -188,7 +188,7 @@ LinkDecision chooseLink(const HierarchyNode& r, const HierarchyNode& s, const Li
     return decision;
 }
 
-LinkImportance linkImportance(const RadiositySystem& system, std::span<const uint8_t> reached,
+LinkImportance linkImportance(const RadiositySystem& system, std::span<const uint8_t> lit,
                               std::span<const uint8_t> dark) {
     const std::size_t n = system.patchCount, m = system.wavelengthCount;
     const std::vector<double>& widths = system.binWidthsNm;
@@ -261,7 +261,7 @@ LinkImportance linkImportance(const RadiositySystem& system, std::span<const uin
         for (std::size_t k = 0; k < m; ++k)
             source +=
                 (directShare * system.emission[i * m + k] + bounce[p][k]) * worth[k] * widths[k];
-        importance.source[i] = reached.empty() || reached[i] ? source : 0.0;
+        importance.source[i] = lit.empty() || lit[i] ? source : 0.0;
         importance.yield[i] = dark.empty() || !dark[i] ? yield[p] : 0.0;
         importance.totalPower += system.areas[i] * importance.source[i];
     }

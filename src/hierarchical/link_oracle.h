@@ -20,11 +20,11 @@
 // smooth indirect light and need not resolve the direct light patch by patch. Then
 //     source_j = sum_k (r E_jk + (M_j Gbar)_k) W_k w_k      (visible-weighted exitance, W m^-2)
 //     yield_j  = max_k (sum_o M_j[o][k] W_o w_o) / (W_k w_k), clamped to [0, 1].
-// The ambient light only reaches patches that light can reach: a patch no ray path from an
-// emitter lands on (`reached`, hierarchical_transport.h) has source 0, and a pair of such
-// patches carries nothing; a patch of a region no light enters (`dark`: the inside of a closed
-// double-sided box standing on the floor) has yield 0 as well, so it carries nothing with any
-// patch.
+// The ambient light only reaches patches that light can reach: a patch of a region with no
+// emitter (`lit`, hierarchical_transport.cpp: the regions of patches joined by survey rays) has
+// source 0, and a pair of such patches carries nothing; a patch of a closed region with no
+// emitter (`dark`: the inside of a closed double-sided box standing on the floor) has yield 0
+// as well, so it carries nothing with any patch.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -40,9 +40,9 @@ struct LinkImportance {
     double totalPower = 0;  // sum_j A_j source_j, W (scene units squared x W m^-2)
 };
 
-// reached: per patch, 0 when no light can reach it (empty: every patch can); dark: per patch, 1
+// lit: per patch, 0 when no light can reach it (empty: every patch can); dark: per patch, 1
 // when it can receive none either (empty: none is).
-LinkImportance linkImportance(const RadiositySystem& system, std::span<const uint8_t> reached = {},
+LinkImportance linkImportance(const RadiositySystem& system, std::span<const uint8_t> lit = {},
                               std::span<const uint8_t> dark = {});
 
 // Whether links refined for `before` may carry more error than the oracle allows under `after`

@@ -175,6 +175,31 @@ TEST(HierarchicalTransport, ADarkCavityGetsNoLinks) {
     EXPECT_LT(double(with.candidates), 1.2 * double(other.candidates));
 }
 
+// Two 0.2 m squares 2 mm apart facing each other in a room of large patches whose walls emit:
+// of the few survey rays (hierarchical_transport.cpp) that leave the gap, reciprocity lets
+// back in about the patches' area ratio (1 in 400), so none lands on the squares' inner faces,
+// but theirs land on the walls: they are in the walls' lit region, and exchange what Howell
+// C-11 gives, within 2% (the near factors' accuracy). Light was counted only on patches a path
+// of survey rays led to from an emitter, and the pair carried nothing: their factor was 0,
+// their rows filled up with the walls' light.
+TEST(HierarchicalTransport, PatchesNoSurveyRayReachesInALitRegionExchangeLight) {
+    TriangleMesh triangles = verify::unitCubeRoom(1);
+    const uint32_t room = uint32_t(triangles.triangleCount());
+    verify::addGrid(triangles, {0.4, 0.4, 0.499}, {0.2, 0, 0}, {0, 0.2, 0}, 4, 4);  // faces +z
+    verify::addGrid(triangles, {0.4, 0.4, 0.501}, {0, 0.2, 0}, {0.2, 0, 0}, 4, 4);  // faces -z
+    const PatchMesh mesh = verify::patchesOf(triangles);
+    const uint32_t n = uint32_t(mesh.patchCount()), half = (n - room) / 2;
+    RadiositySystem system = greySystem(mesh, 0.5, 0);
+    std::fill_n(system.emission.begin(), room, 1.0);
+    const auto transport = build(mesh, system);
+    ASSERT_TRUE(transport);
+    const double expected = verify::parallelRectangles(0.2, 0.2, 0.002);
+    EXPECT_NEAR(groupFactor(mesh, *transport, room, room + half, room + half, n), expected,
+                0.02 * expected);
+    EXPECT_NEAR(groupFactor(mesh, *transport, room + half, n, room, room + half), expected,
+                0.02 * expected);
+}
+
 // A floor of 6 x 6 tiles (0.16 m with 1 cm gaps) under a lamp 1 m above (8 x 8 quads facing
 // down), and a sheet 5 mm under the tiles, as a tiled floor's grout often is: the sheet's
 // patches are sheltered (their survey rays end on the tiles' undersides) and their own subtree,
