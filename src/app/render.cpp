@@ -67,7 +67,7 @@ void addBackground(Image& linearSrgb, const Image& rendered, int coverageChannel
 // hierarchical links, the patch pairs they stand for without a factor of their own.
 std::string skippedViewFactors(const Session& session, const FormFactorReport& formFactors) {
     if (const auto* links = dynamic_cast<const HierarchicalTransport*>(&session.transport())) {
-        const LinkStats& l = links->links().stats;
+        const LinkStats& l = links->linkStats();
         const uint64_t n = session.patches().patchCount();
         return concat("skipped: ", percentOf(n * n - l.nearEntries, n * n),
                       " of the patch pairs have no factor of their own (", formatCount(l.farLinks),

@@ -19,22 +19,31 @@
 
 namespace daisy {
 
+uint64_t FarHalfLinks::bytes() const {
+    return (planarOffsets.size() + otherOffsets.size()) * sizeof(uint64_t) +
+        planarSlots.size() * sizeof(uint32_t) + planarWeights.size() * sizeof(float) +
+        others.size() * sizeof(OtherLink);
+}
+
 HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree tree,
                                              HierarchicalLinks links, std::vector<float> exposure,
                                              const std::vector<uint8_t>& enclosed)
     : tree_(std::move(tree)),
-      links_(std::move(links)),
+      near_(std::move(links.near)),
+      stats_(links.stats),
       normals_(mesh.normals),
       areas_(mesh.areas),
       exposure_(std::move(exposure)) {
-    const uint32_t n = links_.near.size;
-    prepareGather();
+    const uint32_t n = near_.size;
+    prepareNodes();
+    splitFarLinks(links);
+    std::vector<FarLink>().swap(links.far);  // kept only in far_'s form
     farScale_.assign(n, 1.0);
     // Row sums: G for B = 1 at one wavelength.
     const std::vector<double> ones(n, 1.0);
     rowSums_.assign(n, 0.0);
     farGather(ones, 1, rowSums_);
-    const std::vector<double> nearSums = daisy::rowSums(links_.near);
+    const std::vector<double> nearSums = daisy::rowSums(near_);
     for (uint32_t i = 0; i < n; ++i) {
         const double far = rowSums_[i], near = nearSums[i], sum = far + near;
         const uint8_t kind = enclosed.empty() ? 0 : enclosed[i];
@@ -50,23 +59,25 @@ HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree 
         }
         const double scale = 1 / sum;
         farScale_[i] = scale;
-        for (uint64_t e = links_.near.rowOffsets[i]; e < links_.near.rowOffsets[i + 1]; ++e)
-            links_.near.values[e] = static_cast<float>(links_.near.values[e] * scale);
+        for (uint64_t e = near_.rowOffsets[i]; e < near_.rowOffsets[i + 1]; ++e)
+            near_.values[e] = static_cast<float>(near_.values[e] * scale);
     }
 }
 
 HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, HierarchicalParts parts)
     : tree_(std::move(parts.tree)),
-      links_(std::move(parts.links)),
+      near_(std::move(parts.near)),
+      stats_(parts.stats),
+      far_(std::move(parts.far)),
       normals_(mesh.normals),
       areas_(mesh.areas),
       exposure_(std::move(parts.exposure)),
       farScale_(std::move(parts.farScale)),
       rowSums_(std::move(parts.rowSums)) {
-    if (checkStructure().empty()) prepareGather();
+    if (checkTree().empty()) prepareNodes();
 }
 
-void HierarchicalTransport::prepareGather() {
+void HierarchicalTransport::prepareNodes() {
     // A planar node's patches share one normal (cluster_tree.h; a node's children are planar
     // when it is): its far links need the scalar form only. Leaves use the patch's own normal.
     const std::size_t nodes = tree_.nodes.size();
@@ -83,24 +94,22 @@ void HierarchicalTransport::prepareGather() {
         }
         slot_[k + 1] = slot_[k] + (isPlanar(k) ? 1 : 3);
     }
-    DAISY_CHECK(slot_[nodes] <= UINT32_MAX);
-    DAISY_CHECK(slot_[nodes] < kPlanarSource);
-    // Each receiver's half-links: those between two planar nodes as weights on the source's
-    // slot, -K (u . n_S) (u . n_R); the others as one vector each, which farGather applies
-    // by the two sides' kinds: a planar source's scalar Q_S gives J += Q_S v with
-    // v = -K (u . n_S) u; a planar receiver's n_R . J takes v . P_S with v = -K (u . n_R) u;
-    // between two other nodes J += -(v . P_S) v with v = sqrt(K) u.
-    planarOffsets_.assign(nodes + 1, 0);
-    otherOffsets_.assign(nodes + 1, 0);
+    DAISY_CHECK(slot_[nodes] < FarHalfLinks::kPlanarSource);
+}
+
+void HierarchicalTransport::splitFarLinks(const HierarchicalLinks& links) {
+    const std::size_t nodes = tree_.nodes.size();
+    far_.planarOffsets.assign(nodes + 1, 0);
+    far_.otherOffsets.assign(nodes + 1, 0);
     for (std::size_t k = 0; k < nodes; ++k) {
-        for (uint64_t e = links_.farOffsets[k]; e < links_.farOffsets[k + 1]; ++e) {
-            const FarLink& link = links_.far[e];
+        for (uint64_t e = links.farOffsets[k]; e < links.farOffsets[k + 1]; ++e) {
+            const FarLink& link = links.far[e];
             const Vec3d u = farDirection(centroids_[k], centroids_[link.source]);
             const double coupling = link.coupling;
             const uint32_t slot = uint32_t(slot_[link.source]);
             if (isPlanar(k) && isPlanar(link.source)) {
-                planarSlots_.push_back(slot);
-                planarWeights_.push_back(
+                far_.planarSlots.push_back(slot);
+                far_.planarWeights.push_back(
                     float(-coupling * dot(u, orientation_[link.source]) * dot(u, orientation_[k])));
                 continue;
             }
@@ -112,29 +121,26 @@ void HierarchicalTransport::prepareGather() {
             } else {
                 v = u * std::sqrt(coupling);
             }
-            otherLinks_.push_back({isPlanar(link.source) ? slot | kPlanarSource : slot,
-                                   {float(v.x), float(v.y), float(v.z)}});
+            far_.others.push_back(
+                {isPlanar(link.source) ? slot | FarHalfLinks::kPlanarSource : slot,
+                 {float(v.x), float(v.y), float(v.z)}});
         }
-        planarOffsets_[k + 1] = planarSlots_.size();
-        otherOffsets_[k + 1] = otherLinks_.size();
+        far_.planarOffsets[k + 1] = far_.planarSlots.size();
+        far_.otherOffsets[k + 1] = far_.others.size();
     }
 }
 
 TransportStats HierarchicalTransport::stats() const {
-    return {links_.near.nonzeroCount() + links_.far.size(),
-            links_.near.bytes() + links_.far.size() * sizeof(FarLink) +
-                planarSlots_.size() * (sizeof(uint32_t) + sizeof(float)) +
-                otherLinks_.size() * sizeof(OtherLink) +
-                2 * planarOffsets_.size() * sizeof(uint64_t) +
-                links_.farOffsets.size() * sizeof(uint64_t) + tree_.bytes() +
+    return {near_.nonzeroCount() + far_.count(),
+            near_.bytes() + far_.bytes() + tree_.bytes() +
                 (orientation_.size() + centroids_.size()) * sizeof(Vec3d) +
                 slot_.size() * sizeof(uint64_t) + (normals_.size() * sizeof(Vec3d)) +
                 2 * areas_.size() * sizeof(double) + exposure_.size() * sizeof(float)};
 }
 
-std::string HierarchicalTransport::checkStructure() const {
-    if (std::string near = validateStructure(links_.near); !near.empty()) return near;
-    const std::size_t n = links_.near.size, nodes = tree_.nodes.size();
+std::string HierarchicalTransport::checkTree() const {
+    if (std::string near = validateStructure(near_); !near.empty()) return near;
+    const std::size_t n = near_.size, nodes = tree_.nodes.size();
     if (normals_.size() != n || tree_.order.size() != n || tree_.leafOf.size() != n ||
         farScale_.size() != n || rowSums_.size() != n || exposure_.size() != n ||
         nodes != (n > 0 ? 2 * n - 1 : 0)) {
@@ -156,16 +162,51 @@ std::string HierarchicalTransport::checkStructure() const {
                           "outside [0, 1]");
         }
     }
-    if (links_.farOffsets.size() != nodes + 1) return "far-link offsets do not match the tree";
-    for (std::size_t k = 0; k < nodes; ++k) {
-        if (links_.farOffsets[k] > links_.farOffsets[k + 1]) return "far-link offsets decrease";
+    return "";
+}
+
+std::string HierarchicalTransport::checkStructure() const {
+    if (std::string tree = checkTree(); !tree.empty()) return tree;
+    const std::size_t nodes = tree_.nodes.size();
+    const auto offsetsHold = [nodes](const std::vector<uint64_t>& offsets, std::size_t size) {
+        if (offsets.size() != nodes + 1 || offsets.front() != 0 || offsets.back() != size)
+            return false;
+        for (std::size_t k = 0; k < nodes; ++k) {
+            if (offsets[k] > offsets[k + 1]) return false;
+        }
+        return true;
+    };
+    if (!offsetsHold(far_.planarOffsets, far_.planarSlots.size()) ||
+        far_.planarWeights.size() != far_.planarSlots.size() ||
+        !offsetsHold(far_.otherOffsets, far_.others.size())) {
+        return "far-link offsets do not match the tree or the links";
     }
-    if (links_.farOffsets.back() != links_.far.size()) return "far-link offsets pass the links";
-    for (std::size_t e = 0; e < links_.far.size(); ++e) {
-        const FarLink& link = links_.far[e];
-        if (link.source >= nodes || !std::isfinite(link.coupling) || link.coupling < 0) {
-            return concat("far link ", e, " has source ", link.source, " and coupling ",
-                          link.coupling);
+    // What starts at each slot: 1 a planar node's values, 2 another node's, 0 nothing.
+    std::vector<uint8_t> starts(slot_[nodes], 0);
+    for (std::size_t k = 0; k < nodes; ++k)
+        starts[slot_[k]] = isPlanar(k) ? 1 : 2;
+    for (std::size_t k = 0; k < nodes; ++k) {
+        if (!isPlanar(k) && far_.planarOffsets[k] != far_.planarOffsets[k + 1])
+            return concat("tree node ", k, " is not planar but has planar far links");
+        for (uint64_t e = far_.planarOffsets[k]; e < far_.planarOffsets[k + 1]; ++e) {
+            const uint32_t slot = far_.planarSlots[e];
+            if (slot >= starts.size() || starts[slot] != 1 ||
+                !std::isfinite(far_.planarWeights[e])) {
+                return concat("planar far link ", e, " has slot ", slot, " and weight ",
+                              far_.planarWeights[e]);
+            }
+        }
+        for (uint64_t e = far_.otherOffsets[k]; e < far_.otherOffsets[k + 1]; ++e) {
+            const FarHalfLinks::OtherLink& link = far_.others[e];
+            const bool planarSource = (link.slot & FarHalfLinks::kPlanarSource) != 0;
+            const uint32_t slot = link.slot & ~FarHalfLinks::kPlanarSource;
+            const bool finite =
+                std::isfinite(link.v[0]) && std::isfinite(link.v[1]) && std::isfinite(link.v[2]);
+            if (slot >= starts.size() || starts[slot] != (planarSource ? 1 : 2) || !finite ||
+                (planarSource && isPlanar(k))) {
+                return concat("far link ", e, " has slot ", link.slot,
+                              " or a vector that is not finite");
+            }
         }
     }
     return "";
@@ -230,16 +271,16 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
         [&](const tbb::blocked_range<std::size_t>& range) {
             for (std::size_t k = range.begin(); k != range.end(); ++k) {
                 double* __restrict j = at(push, slot_[k]);
-                if (planarOffsets_[k] < planarOffsets_[k + 1]) {
-                    accumulate(planarSlots_.data(), planarWeights_.data(), planarOffsets_[k],
-                               planarOffsets_[k + 1], pull.data(), m, j);
+                if (far_.planarOffsets[k] < far_.planarOffsets[k + 1]) {
+                    accumulate(far_.planarSlots.data(), far_.planarWeights.data(),
+                               far_.planarOffsets[k], far_.planarOffsets[k + 1], pull.data(), m, j);
                 }
                 const bool planarReceiver = isPlanar(k);
-                for (uint64_t o = otherOffsets_[k]; o < otherOffsets_[k + 1]; ++o) {
-                    const OtherLink& link = otherLinks_[o];
-                    const float* __restrict p = at(pull, link.slot & ~kPlanarSource);
+                for (uint64_t o = far_.otherOffsets[k]; o < far_.otherOffsets[k + 1]; ++o) {
+                    const FarHalfLinks::OtherLink& link = far_.others[o];
+                    const float* __restrict p = at(pull, link.slot & ~FarHalfLinks::kPlanarSource);
                     const double x = link.v[0], y = link.v[1], z = link.v[2];
-                    if (link.slot & kPlanarSource) {
+                    if (link.slot & FarHalfLinks::kPlanarSource) {
                         for (std::size_t c = 0; c < m; ++c) {
                             const double q = p[c];
                             j[c] += x * q, j[m + c] += y * q, j[2 * m + c] += z * q;
@@ -292,7 +333,7 @@ void HierarchicalTransport::gather(std::span<const double> radiosity, std::size_
     }
     std::vector<double> far(gathered.size());
     farGather(radiosity, wavelengthCount, far);
-    gatherAll(links_.near, radiosity, wavelengthCount, gathered, 0);
+    gatherAll(near_, radiosity, wavelengthCount, gathered, 0);
     for (std::size_t e = 0; e < gathered.size(); ++e)
         gathered[e] += far[e];
 }
@@ -316,7 +357,7 @@ void HierarchicalTransport::gatherFrom(std::span<const uint8_t> sources,
 }
 
 void HierarchicalTransport::row(uint32_t patch, std::vector<TransportEntry>& out) const {
-    rowEntries(links_.near, patch, out);
+    rowEntries(near_, patch, out);
 }
 
 Expected<SolverResult> HierarchicalTransport::solve(const RadiositySystem& system,
@@ -326,7 +367,7 @@ Expected<SolverResult> HierarchicalTransport::solve(const RadiositySystem& syste
                                                             std::span<double> gathered) {
         farGather(radiosity, m, gathered);
     };
-    return solveRadiosity(links_.near, system, settings);
+    return solveRadiosity(near_, system, settings);
 }
 
 Expected<void> HierarchicalTransport::writeMatrixMarket(const std::string&,
@@ -505,8 +546,10 @@ HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengt
     const uint64_t nodes = n > 0 ? 2 * n - 1 : 0;
     const uint64_t nodeBytes = nodes * (sizeof(HierarchyNode) + 8 + 2 * sizeof(Vec3d) + 2 * 8) +
         n * (sizeof(Vec3d) + 2 * sizeof(double) + 8) + nodes * 3 * wavelengthCount * (4 + 8);
-    estimate.bytes = sparseMatrixBytes(n, estimate.nearEntries) +
-        2 * estimate.farLinks * (sizeof(FarLink) + sizeof(uint32_t) + sizeof(float)) + nodeBytes;
+    // A far half-link (FarHalfLinks) takes 8 bytes between two planar nodes and 16 otherwise,
+    // about a fifth of them on the interiors: 12 bytes.
+    estimate.bytes =
+        sparseMatrixBytes(n, estimate.nearEntries) + 2 * estimate.farLinks * 12 + nodeBytes;
     // While the links are built, before the transport's own arrays exist, each thread's records
     // (a grown vector holds up to twice them) sit beside their merged copy: 12 bytes a far
     // record and 8 a near pair (about one a near factor), three times over. Measured peaks of whole

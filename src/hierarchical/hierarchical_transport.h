@@ -59,11 +59,40 @@ inline constexpr uint8_t kEnclosedInOpenRegion = 2;  // filled when within kOpen
 // moves by 0.02% either way.
 inline constexpr double kOpenFill = 0.05;
 
+// The far half-links by receiving node, in the form the gather applies them (farGather):
+// between two planar nodes, the source's slot (where its pull values start, in units of m)
+// and the weight -K (u . n_S) (u . n_R); the others with their direction folded into one
+// vector (OtherLink). The transport keeps the far links in this form only: the FarLink list
+// beside it was as large again (1.95 of the 4.38 GiB of the 250,002-triangle interior's).
+struct FarHalfLinks {
+    struct OtherLink {
+        uint32_t slot;  // the source's slot, kPlanarSource set when the source is planar
+        // A planar source's scalar Q_S gives J += Q_S v with v = -K (u . n_S) u; a planar
+        // receiver's n_R . J takes v . P_S with v = -K (u . n_R) u; between two other nodes
+        // J += -(v . P_S) v with v = sqrt(K) u.
+        float v[3];
+    };
+    static constexpr uint32_t kPlanarSource = 1u << 31;
+    std::vector<uint64_t> planarOffsets, otherOffsets;  // per node + 1
+    std::vector<uint32_t> planarSlots;
+    std::vector<float> planarWeights;
+    std::vector<OtherLink> others;
+
+    uint64_t count() const { return planarSlots.size() + others.size(); }
+    uint64_t count(std::size_t node) const {
+        return planarOffsets[node + 1] - planarOffsets[node] + otherOffsets[node + 1] -
+            otherOffsets[node];
+    }
+    uint64_t bytes() const;
+};
+
 // What the disk cache keeps of a built transport (pipeline/links_cache.h): enough to restore
 // it exactly, the near factors and the far scales as the row caps left them.
 struct HierarchicalParts {
     ClusterTree tree;
-    HierarchicalLinks links;
+    SparseMatrix near;
+    LinkStats stats;
+    FarHalfLinks far;
     std::vector<double> farScale;  // per patch
     std::vector<double> rowSums;  // per patch
     std::vector<float> exposure;  // per patch: phi, the exposed share
@@ -75,12 +104,12 @@ public:
     // kEnclosedInOpenRegion or 0 (empty: no patch known to be enclosed).
     HierarchicalTransport(const PatchMesh& mesh, ClusterTree tree, HierarchicalLinks links,
                           std::vector<float> exposure, const std::vector<uint8_t>& enclosed = {});
-    // Restores a transport from what parts() gave for the same patches (checkStructure() tells
-    // whether the parts hold together).
+    // Restores a transport from the parts of one built for the same patches (the links cache
+    // stores them; checkStructure() tells whether they hold together).
     HierarchicalTransport(const PatchMesh& mesh, HierarchicalParts parts);
 
     const char* kind() const override { return "hierarchical"; }
-    uint32_t patchCount() const override { return links_.near.size; }
+    uint32_t patchCount() const override { return near_.size; }
     TransportStats stats() const override;
     std::span<const double> rowSums() const override { return rowSums_; }
     std::string checkStructure() const override;
@@ -98,7 +127,11 @@ public:
                                        const MatrixCompareSettings& settings) const override;
 
     const ClusterTree& tree() const { return tree_; }
-    const HierarchicalLinks& links() const { return links_; }
+    const SparseMatrix& near() const { return near_; }  // the near links' F_ij
+    const LinkStats& linkStats() const { return stats_; }
+    const FarHalfLinks& farLinks() const { return far_; }
+    // Per node: where its pull values start (units of m), and the end after the last node.
+    const std::vector<uint64_t>& slots() const { return slot_; }
     const std::vector<double>& farScale() const { return farScale_; }
     const std::vector<float>& exposure() const { return exposure_; }
     // The far links' part of G = T B (n x m, overwritten), rows capped as the near part.
@@ -106,30 +139,24 @@ public:
                    std::span<double> gathered) const;
 
 private:
-    ClusterTree tree_;
-    HierarchicalLinks links_;
-    // The per-node arrays and the split of the far links that the gather reads.
-    void prepareGather();
+    // The per-node arrays the gather reads (a valid tree).
+    void prepareNodes();
+    // The far links of `links` by receiver, split as far_ holds them.
+    void splitFarLinks(const HierarchicalLinks& links);
+    // checkStructure's part on the tree and the per-patch arrays.
+    std::string checkTree() const;
     // Per node: its normal when it is planar (every leaf is), else zero.
     bool isPlanar(std::size_t node) const { return orientation_[node] != Vec3d{}; }
 
+    ClusterTree tree_;
+    SparseMatrix near_;
+    LinkStats stats_;
+    FarHalfLinks far_;
     std::vector<Vec3d> normals_;  // per patch
     std::vector<double> areas_;  // per patch
     std::vector<float> exposure_;  // per patch: phi
     std::vector<Vec3d> orientation_;  // per node: see isPlanar
     std::vector<Vec3d> centroids_;  // per node: HierarchyNode::centroid, packed for the gather
-    // The far half-links by receiver, split for the gather (farGather): between two planar
-    // nodes, the source's slot and the weight -K (u . n_S) (u . n_R); the others with their
-    // direction folded into one vector (OtherLink).
-    struct OtherLink {
-        uint32_t slot;  // the source's slot, kPlanarSource set when the source is planar
-        float v[3];  // -K (u . n_S) u, -K (u . n_R) u, or sqrt(K) u: see prepareGather
-    };
-    static constexpr uint32_t kPlanarSource = 1u << 31;
-    std::vector<uint64_t> planarOffsets_, otherOffsets_;  // per node + 1
-    std::vector<uint32_t> planarSlots_;
-    std::vector<float> planarWeights_;
-    std::vector<OtherLink> otherLinks_;
     std::vector<uint64_t> slot_;  // per node: its far-gather values start at slot_ x m; + end
     // The far gather's pull (float: the links read it at random, so its size is their memory
     // traffic) and push values, reused by one gather at a time (another concurrent one

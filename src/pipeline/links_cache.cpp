@@ -17,29 +17,35 @@ struct LinksLayout {
     uint64_t nodes = 0;
     uint64_t patches = 0;
     uint64_t nearEntries = 0;
-    uint64_t farHalfLinks = 0;
+    uint64_t planarHalfLinks = 0;
+    uint64_t otherHalfLinks = 0;
     LinkStats stats;
 };
 
 static_assert(std::is_trivially_copyable_v<LinksLayout>, "the layout is stored as raw bytes");
 static_assert(std::is_trivially_copyable_v<HierarchyNode>, "nodes are stored as raw bytes");
-static_assert(std::is_trivially_copyable_v<FarLink>, "far links are stored as raw bytes");
+static_assert(std::is_trivially_copyable_v<FarHalfLinks::OtherLink>,
+              "far links are stored as raw bytes");
 
 const CacheFileFormat kFormat{
     {'D', 'A', 'I', 'S', 'Y', 'H', '\0', '\0'}, kLinksCacheVersion, "links cache file"};
 
 // Bytes of the payload's arrays after the layout, in their order (the tree's nodes, order and
-// leaves; the near factors' offsets, columns and values; the far offsets and half-links; the far
-// scales and row sums); false when the sizes cannot be a transport's (a corrupt file).
+// leaves; the near factors' offsets, columns and values; the far half-links' offsets, slots
+// and weights between planar nodes, and the others' offsets and links; the far scales, row
+// sums and exposed shares); false when the sizes cannot be a transport's (a corrupt file).
 bool arrayBytes(const LinksLayout& layout, uint64_t& bytes) {
     const uint64_t n = layout.patches, nodes = layout.nodes;
     if (n > UINT32_MAX || nodes != (n > 0 ? 2 * n - 1 : 0) || layout.nearEntries > (1ull << 40) ||
-        layout.farHalfLinks > (1ull << 40)) {
+        layout.planarHalfLinks > (1ull << 40) || layout.otherHalfLinks > (1ull << 40)) {
         return false;
     }
     bytes = nodes * sizeof(HierarchyNode) + 2 * n * sizeof(uint32_t) + (n + 1) * sizeof(uint64_t) +
-        layout.nearEntries * (sizeof(uint32_t) + sizeof(float)) + (nodes + 1) * sizeof(uint64_t) +
-        layout.farHalfLinks * sizeof(FarLink) + 2 * n * sizeof(double) + n * sizeof(float);
+        layout.nearEntries * (sizeof(uint32_t) + sizeof(float)) +
+        2 * (nodes + 1) * sizeof(uint64_t) +
+        layout.planarHalfLinks * (sizeof(uint32_t) + sizeof(float)) +
+        layout.otherHalfLinks * sizeof(FarHalfLinks::OtherLink) + 2 * n * sizeof(double) +
+        n * sizeof(float);
     return true;
 }
 
@@ -95,7 +101,7 @@ LinksLookup LinksCache::load(const LinksKey& key, const PatchMesh& mesh,
     if (!reader.read(&layout, sizeof(layout))) return reject(reader.finish());
     uint64_t bytes = 0;
     if (!arrayBytes(layout, bytes) || layout.patches != header.counts[0] ||
-        layout.farHalfLinks != header.counts[1]) {
+        layout.planarHalfLinks + layout.otherHalfLinks != header.counts[1]) {
         return reject("sizes out of range (file corrupt)");
     }
     // The key covers the patches: another count is a damaged file.
@@ -115,19 +121,24 @@ LinksLookup LinksCache::load(const LinksKey& key, const PatchMesh& mesh,
     }
     const uint64_t n = layout.patches;
     HierarchicalParts parts;
-    HierarchicalLinks& links = parts.links;
-    links.near.size = uint32_t(n);
+    SparseMatrix& near = parts.near;
+    FarHalfLinks& far = parts.far;
+    near.size = uint32_t(n);
     const bool read = reader.readArray(parts.tree.nodes, layout.nodes) &&
         reader.readArray(parts.tree.order, n) && reader.readArray(parts.tree.leafOf, n) &&
-        reader.readArray(links.near.rowOffsets, n + 1) &&
-        reader.readArray(links.near.columns, layout.nearEntries) &&
-        reader.readArray(links.near.values, layout.nearEntries) &&
-        reader.readArray(links.farOffsets, layout.nodes + 1) &&
-        reader.readArray(links.far, layout.farHalfLinks) && reader.readArray(parts.farScale, n) &&
-        reader.readArray(parts.rowSums, n) && reader.readArray(parts.exposure, n);
+        reader.readArray(near.rowOffsets, n + 1) &&
+        reader.readArray(near.columns, layout.nearEntries) &&
+        reader.readArray(near.values, layout.nearEntries) &&
+        reader.readArray(far.planarOffsets, layout.nodes + 1) &&
+        reader.readArray(far.planarSlots, layout.planarHalfLinks) &&
+        reader.readArray(far.planarWeights, layout.planarHalfLinks) &&
+        reader.readArray(far.otherOffsets, layout.nodes + 1) &&
+        reader.readArray(far.others, layout.otherHalfLinks) &&
+        reader.readArray(parts.farScale, n) && reader.readArray(parts.rowSums, n) &&
+        reader.readArray(parts.exposure, n);
     if (!read) return reject(reader.finish());
     if (std::string problem = reader.finish(); !problem.empty()) return reject(problem);
-    links.stats = layout.stats;
+    parts.stats = layout.stats;
     auto transport = std::make_shared<const HierarchicalTransport>(mesh, std::move(parts));
     if (std::string problem = transport->checkStructure(); !problem.empty()) {
         return reject(concat(problem, " (file corrupt)"));
@@ -147,28 +158,33 @@ std::string LinksCache::store(const LinksKey& key, const HierarchicalTransport& 
                       ": ", error.message());
     }
     const ClusterTree& tree = transport.tree();
-    const HierarchicalLinks& links = transport.links();
+    const SparseMatrix& near = transport.near();
+    const FarHalfLinks& far = transport.farLinks();
     LinksLayout layout;
     layout.nodes = tree.nodes.size();
-    layout.patches = links.near.size;
-    layout.nearEntries = links.near.nonzeroCount();
-    layout.farHalfLinks = links.far.size();
-    layout.stats = links.stats;
+    layout.patches = near.size;
+    layout.nearEntries = near.nonzeroCount();
+    layout.planarHalfLinks = far.planarSlots.size();
+    layout.otherHalfLinks = far.others.size();
+    layout.stats = transport.linkStats();
     CacheFileHeader header;
     header.magic = kFormat.magic;
     header.version = kFormat.version;
     header.detail = sizeof(HierarchyNode);
     header.key = key;
-    header.counts = {layout.patches, layout.farHalfLinks};
+    header.counts = {layout.patches, far.count()};
     const std::span<const std::byte> payload[] = {bytesOf(layout),
                                                   bytesOf(tree.nodes),
                                                   bytesOf(tree.order),
                                                   bytesOf(tree.leafOf),
-                                                  bytesOf(links.near.rowOffsets),
-                                                  bytesOf(links.near.columns),
-                                                  bytesOf(links.near.values),
-                                                  bytesOf(links.farOffsets),
-                                                  bytesOf(links.far),
+                                                  bytesOf(near.rowOffsets),
+                                                  bytesOf(near.columns),
+                                                  bytesOf(near.values),
+                                                  bytesOf(far.planarOffsets),
+                                                  bytesOf(far.planarSlots),
+                                                  bytesOf(far.planarWeights),
+                                                  bytesOf(far.otherOffsets),
+                                                  bytesOf(far.others),
                                                   bytesOf(transport.farScale()),
                                                   std::as_bytes(transport.rowSums()),
                                                   bytesOf(transport.exposure())};

@@ -19,9 +19,9 @@
 
 namespace daisy {
 
-// Bump when the key's byte stream, the file layout, HierarchyNode, FarLink or LinkStats change,
-// or the rules that make the links (an entry would give other links than a build).
-inline constexpr uint32_t kLinksCacheVersion = 3;
+// Bump when the key's byte stream, the file layout, HierarchyNode, FarHalfLinks or LinkStats
+// change, or the rules that make the links (an entry would give other links than a build).
+inline constexpr uint32_t kLinksCacheVersion = 4;
 
 using LinksKey = Hash128;
 

@@ -545,14 +545,13 @@ Expected<FormFactorReport> Session::buildHierarchical(const std::string& backend
             report.fromCache = true;
             report.backendName = "cache";
             report.stats.patches = s.patches.patchCount();
-            report.stats.nonzeros = lookup.transport->links().stats.nearEntries;
+            report.stats.nonzeros = lookup.transport->linkStats().nearEntries;
             report.seconds = timer.seconds();
-            s.stageLine(concat("view factors: hierarchical: ",
-                               formatCount(lookup.transport->links().stats.farLinks),
-                               " far links and ",
-                               formatCount(lookup.transport->links().stats.nearEntries),
-                               " near factors from the cache ", report.cachePath, " in ",
-                               formatDuration(report.seconds)));
+            s.stageLine(concat(
+                "view factors: hierarchical: ", formatCount(lookup.transport->linkStats().farLinks),
+                " far links and ", formatCount(lookup.transport->linkStats().nearEntries),
+                " near factors from the cache ", report.cachePath, " in ",
+                formatDuration(report.seconds)));
             s.transport = std::move(lookup.transport);
             s.linksImportance = linkImportance(s.system);
             s.exposedReady = false;
@@ -571,7 +570,7 @@ Expected<FormFactorReport> Session::buildHierarchical(const std::string& backend
         buildHierarchicalTransport(s.patches, **exposure, s.system, s.settings.hierarchy, settings);
     if (!built) return withContext(built.error(), s.scenePath());
     ++s.builds;
-    const LinkStats& stats = (*built)->links().stats;
+    const LinkStats& stats = (*built)->linkStats();
     report.backendName = "cpu";
     report.stats.patches = s.patches.patchCount();
     report.stats.raysCast = stats.raysCast;

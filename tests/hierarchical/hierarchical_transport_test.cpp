@@ -81,7 +81,7 @@ TEST(HierarchicalTransport, ParallelSquaresFactorIsHowellC11) {
                 5e-3 * verify::kHowellC11);
     EXPECT_NEAR(groupFactor(mesh, *transport, half, 2 * half, 0, half), verify::kHowellC11,
                 5e-3 * verify::kHowellC11);
-    const LinkStats& stats = transport->links().stats;
+    const LinkStats& stats = transport->linkStats();
     EXPECT_GT(stats.farLinks, 0u);
     EXPECT_LT(stats.nearEntries + 2 * stats.farLinks, uint64_t(half) * half);
 }
@@ -100,8 +100,8 @@ TEST(HierarchicalTransport, HalfOccludedSquaresShareExactlyHalf) {
         hierarchy.linkTolerance = tolerance;
         const auto transport = build(mesh, system, hierarchy);
         ASSERT_TRUE(transport);
-        EXPECT_GT(transport->links().stats.farLinks, 100u);
-        EXPECT_GT(transport->links().stats.hidden, 0u);
+        EXPECT_GT(transport->linkStats().farLinks, 100u);
+        EXPECT_GT(transport->linkStats().hidden, 0u);
         EXPECT_NEAR(groupFactor(mesh, *transport, 0, 128, 128, 256),
                     0.5 * verify::kHowellC11Distance2, within * 0.5 * verify::kHowellC11Distance2)
             << "tolerance " << tolerance;
@@ -168,8 +168,8 @@ TEST(HierarchicalTransport, ADarkCavityGetsNoLinks) {
     std::fill_n(plainSystem.emission.begin(), roomTriangles, 1.0);
     const auto without = build(*plain, plainSystem);
     ASSERT_TRUE(without);
-    const LinkStats& with = transport->links().stats;
-    const LinkStats& other = without->links().stats;
+    const LinkStats& with = transport->linkStats();
+    const LinkStats& other = without->linkStats();
     EXPECT_EQ(with.nearEntries, other.nearEntries);
     EXPECT_EQ(with.hidden, 0u);
     EXPECT_LT(double(with.candidates), 1.2 * double(other.candidates));
@@ -459,8 +459,40 @@ TEST(HierarchicalTransport, TheLinksCacheRestoresTheTransportExactly) {
     EXPECT_EQ(solved->radiosity, radiosity[0]);
 }
 
-// Per patch: its near factors plus the far half-links of its leaf and of every ancestor (the
-// links whose transport reaches it); {mean, largest}.
+// A transport restored from parts (what the links cache stores) holds them to the tree: the
+// same parts give the same gather; a far link whose source slot lies past the last node, or
+// at a node that is not planar while the link is stored as planar, is refused, so a damaged
+// entry with a valid checksum cannot make the gather read outside its values.
+TEST(HierarchicalTransport, RestoredFarLinksMustPointAtTheirKindOfNode) {
+    const PatchMesh mesh = verify::patchesOf(verify::parallelSquares(8, 1));
+    const RadiositySystem system = greySystem(mesh, 0.5, 1);
+    const auto built = build(mesh, system);
+    ASSERT_TRUE(built);
+    ASSERT_GT(built->farLinks().planarSlots.size(), 0u);
+    const auto partsOf = [&](const HierarchicalTransport& t) {
+        return HierarchicalParts{t.tree(),      t.near(),
+                                 t.linkStats(), t.farLinks(),
+                                 t.farScale(),  {t.rowSums().begin(), t.rowSums().end()},
+                                 t.exposure()};
+    };
+    const HierarchicalTransport same(mesh, partsOf(*built));
+    EXPECT_EQ(same.checkStructure(), "");
+    const std::vector<double> ones(mesh.patchCount(), 1.0);
+    std::vector<double> a(mesh.patchCount()), b(mesh.patchCount());
+    built->gather(ones, 1, a);
+    same.gather(ones, 1, b);
+    EXPECT_EQ(a, b);
+    // The root holds both squares, facing opposite ways: not planar.
+    ASSERT_FALSE(built->tree().nodes[0].isPlanar());
+    for (const uint64_t slot : {built->slots().back(), built->slots()[0]}) {
+        HierarchicalParts parts = partsOf(*built);
+        parts.far.planarSlots[0] = uint32_t(slot);
+        const HierarchicalTransport damaged(mesh, std::move(parts));
+        EXPECT_NE(damaged.checkStructure().find("planar far link 0 has slot"), std::string::npos)
+            << damaged.checkStructure();
+    }
+}
+
 // The build reports its two stages, the refinement ("links") and the near factors, each ending
 // at its total, to the observer a front end draws its progress bar from (the viewer's).
 TEST(HierarchicalTransport, TheBuildReportsItsProgress) {
@@ -532,20 +564,21 @@ TEST(HierarchicalTransport, AnEditThatMovesLightRefinesTheLinksAgain) {
     EXPECT_EQ(got->radiosity, expected->radiosity);
 }
 
+// Per patch: its near factors plus the far half-links of its leaf and of every ancestor (the
+// links whose transport reaches it); {mean, largest}.
 std::pair<double, uint64_t> linksPerPatch(const HierarchicalTransport& transport) {
     const ClusterTree& tree = transport.tree();
-    const HierarchicalLinks& links = transport.links();
     std::vector<uint64_t> inherited(tree.nodes.size(), 0);
     uint64_t most = 0, total = 0;
     for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
         const HierarchyNode& node = tree.nodes[k];
-        inherited[k] += links.farOffsets[k + 1] - links.farOffsets[k];
+        inherited[k] += transport.farLinks().count(k);
         if (!node.isLeaf()) {
             for (uint32_t child : node.children)
                 inherited[child] = inherited[k];
             continue;
         }
-        const uint64_t count = inherited[k] + links.near.rowLength(tree.order[node.first]);
+        const uint64_t count = inherited[k] + transport.near().rowLength(tree.order[node.first]);
         most = std::max(most, count);
         total += count;
     }
@@ -585,23 +618,47 @@ TEST(HierarchicalTransport, CornellBoxMatchesTheMatrixPath) {
     EXPECT_LT(std::sqrt(sumSq / area) / (sum / area), 0.01);
     EXPECT_LT(transport->stats().entries, session->transport().stats().entries / 2);
 
-    const ClusterTree& tree = transport->tree();
-    const HierarchicalLinks& links = transport->links();
+    // Each half-link's other half, under its source, with the same weight (between two planar
+    // nodes, -K (u . n_S) (u . n_R) both ways) or the same vector (negated between two other
+    // nodes: sqrt(K) u, u reversed), to float rounding.
+    const std::vector<uint64_t>& slots = transport->slots();
+    const FarHalfLinks& far = transport->farLinks();
+    const auto nodeAt = [&slots](uint32_t slot) {
+        return uint32_t(std::lower_bound(slots.begin(), slots.end(), uint64_t(slot)) -
+                        slots.begin());
+    };
+    const auto planar = [&](std::size_t node) {
+        return transport->tree().nodes[node].isLeaf() || transport->tree().nodes[node].isPlanar();
+    };
     uint64_t halves = 0;
-    for (std::size_t r = 0; r < tree.nodes.size(); ++r) {
-        for (uint64_t e = links.farOffsets[r]; e < links.farOffsets[r + 1]; ++e) {
-            const FarLink& link = links.far[e];
-            // The other half, under the source, with the same coupling.
-            const auto begin = links.far.begin() + links.farOffsets[link.source];
-            const auto end = links.far.begin() + links.farOffsets[link.source + 1];
-            const auto back = std::lower_bound(
-                begin, end, uint32_t(r), [](const FarLink& l, uint32_t s) { return l.source < s; });
-            ASSERT_TRUE(back != end && back->source == r);
-            ASSERT_EQ(back->coupling, link.coupling);
+    for (std::size_t r = 0; r < transport->tree().nodes.size(); ++r) {
+        const uint32_t back = uint32_t(slots[r]);
+        for (uint64_t e = far.planarOffsets[r]; e < far.planarOffsets[r + 1]; ++e) {
+            const uint32_t s = nodeAt(far.planarSlots[e]);
+            const auto begin = far.planarSlots.begin() + std::ptrdiff_t(far.planarOffsets[s]);
+            const auto end = far.planarSlots.begin() + std::ptrdiff_t(far.planarOffsets[s + 1]);
+            const auto other = std::lower_bound(begin, end, back);
+            ASSERT_TRUE(other != end && *other == back) << "node " << r << " and " << s;
+            const float w = far.planarWeights[std::size_t(other - far.planarSlots.begin())];
+            ASSERT_NEAR(w, far.planarWeights[e], 1e-6 * std::abs(w));
+            ++halves;
+        }
+        for (uint64_t e = far.otherOffsets[r]; e < far.otherOffsets[r + 1]; ++e) {
+            const FarHalfLinks::OtherLink& link = far.others[e];
+            const uint32_t s = nodeAt(link.slot & ~FarHalfLinks::kPlanarSource);
+            const auto begin = far.others.begin() + std::ptrdiff_t(far.otherOffsets[s]);
+            const auto end = far.others.begin() + std::ptrdiff_t(far.otherOffsets[s + 1]);
+            const auto other = std::find_if(begin, end, [back](const FarHalfLinks::OtherLink& l) {
+                return (l.slot & ~FarHalfLinks::kPlanarSource) == back;
+            });
+            ASSERT_TRUE(other != end) << "node " << r << " and " << s;
+            const float sign = planar(r) || planar(s) ? 1.0f : -1.0f;
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(other->v[c], sign * link.v[c], 1e-6 * std::abs(link.v[c]) + 1e-12);
             ++halves;
         }
     }
-    EXPECT_EQ(halves, 2 * links.stats.farLinks);
+    EXPECT_EQ(halves, 2 * transport->linkStats().farLinks);
     // The summed factors leaving each patch, as the gather applies them (B = 1), and as stored.
     const std::vector<double> ones(n, 1.0);
     std::vector<double> sums(n);
