@@ -213,8 +213,8 @@ std::string HierarchicalTransport::checkStructure() const {
 }
 
 void HierarchicalTransport::farGather(std::span<const double> radiosity,
-                                      std::size_t wavelengthCount,
-                                      std::span<double> gathered) const {
+                                      std::size_t wavelengthCount, std::span<double> gathered,
+                                      std::span<const uint8_t> sourceSlots) const {
     const std::size_t m = wavelengthCount, nodes = tree_.nodes.size();
     DAISY_CHECK(radiosity.size() == normals_.size() * m && gathered.size() == radiosity.size());
     if (nodes == 0) return;
@@ -271,13 +271,25 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
         [&](const tbb::blocked_range<std::size_t>& range) {
             for (std::size_t k = range.begin(); k != range.end(); ++k) {
                 double* __restrict j = at(push, slot_[k]);
-                if (far_.planarOffsets[k] < far_.planarOffsets[k + 1]) {
+                if (!sourceSlots.empty()) {
+                    for (uint64_t e = far_.planarOffsets[k]; e < far_.planarOffsets[k + 1]; ++e) {
+                        if (!sourceSlots[far_.planarSlots[e]]) continue;
+                        const float* __restrict p = at(pull, far_.planarSlots[e]);
+                        const double w = far_.planarWeights[e];
+                        for (std::size_t c = 0; c < m; ++c)
+                            j[c] += w * p[c];
+                    }
+                } else if (far_.planarOffsets[k] < far_.planarOffsets[k + 1]) {
                     accumulate(far_.planarSlots.data(), far_.planarWeights.data(),
                                far_.planarOffsets[k], far_.planarOffsets[k + 1], pull.data(), m, j);
                 }
                 const bool planarReceiver = isPlanar(k);
                 for (uint64_t o = far_.otherOffsets[k]; o < far_.otherOffsets[k + 1]; ++o) {
                     const FarHalfLinks::OtherLink& link = far_.others[o];
+                    if (!sourceSlots.empty() &&
+                        !sourceSlots[link.slot & ~FarHalfLinks::kPlanarSource]) {
+                        continue;
+                    }
                     const float* __restrict p = at(pull, link.slot & ~FarHalfLinks::kPlanarSource);
                     const double x = link.v[0], y = link.v[1], z = link.v[2];
                     if (link.slot & FarHalfLinks::kPlanarSource) {
@@ -346,11 +358,24 @@ void HierarchicalTransport::gatherFrom(std::span<const uint8_t> sources,
     const std::size_t n = patchCount(), m = wavelengthCount;
     DAISY_CHECK(sources.size() == n && receivers.size() == n && radiosity.size() == n * m &&
                 gathered.size() == n * m);
-    std::vector<double> masked(n * m, 0.0), all(n * m);
+    std::vector<double> masked(n * m, 0.0), all(n * m), far(n * m);
     for (std::size_t i = 0; i < n; ++i) {
         if (sources[i]) std::copy_n(radiosity.data() + i * m, m, masked.data() + i * m);
     }
-    gather(masked, m, all);
+    // The far links from nodes with a source below them only: a few emitters' light (the
+    // direct light the image's final gather takes out) comes through a small part of them.
+    const std::size_t nodes = tree_.nodes.size();
+    std::vector<uint8_t> below(nodes, 0), sourceSlots(nodes > 0 ? slot_[nodes] : 0, 0);
+    for (std::size_t k = nodes; k-- > 0;) {
+        const HierarchyNode& node = tree_.nodes[k];
+        below[k] = node.isLeaf() ? sources[tree_.order[node.first]]
+                                 : below[node.children[0]] | below[node.children[1]];
+        sourceSlots[slot_[k]] = below[k];
+    }
+    farGather(masked, m, far, sourceSlots);
+    gatherAll(near_, masked, m, all, 0);
+    for (std::size_t e = 0; e < all.size(); ++e)
+        all[e] += far[e];
     for (std::size_t i = 0; i < n; ++i) {
         if (receivers[i]) std::copy_n(all.data() + i * m, m, gathered.data() + i * m);
     }

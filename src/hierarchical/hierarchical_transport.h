@@ -135,8 +135,10 @@ public:
     const std::vector<double>& farScale() const { return farScale_; }
     const std::vector<float>& exposure() const { return exposure_; }
     // The far links' part of G = T B (n x m, overwritten), rows capped as the near part.
+    // sourceSlots: per slot (slots()), whether a patch below that node may have B != 0; the
+    // links from the others are skipped (empty: none is).
     void farGather(std::span<const double> radiosity, std::size_t wavelengthCount,
-                   std::span<double> gathered) const;
+                   std::span<double> gathered, std::span<const uint8_t> sourceSlots = {}) const;
 
 private:
     // The per-node arrays the gather reads (a valid tree).

@@ -459,6 +459,56 @@ TEST(HierarchicalTransport, TheLinksCacheRestoresTheTransportExactly) {
     EXPECT_EQ(solved->radiosity, radiosity[0]);
 }
 
+// gatherFrom, which the image's final gather takes the emitters' direct light out with, skips
+// the far links from nodes with no source below them: it gives what a whole gather of the
+// masked radiosity gives, to rounding (the planar links summed in another order), for the
+// receivers asked for and nothing for the others.
+TEST(HierarchicalTransport, GatherFromSomeSourcesIsTheGatherOfTheirLight) {
+    // A room with a cylinder of 24 facets standing in it: its nodes that are not planar have
+    // far links (the vector form).
+    TriangleMesh triangles = verify::unitCubeRoom(6);
+    for (int k = 0; k < 24; ++k) {
+        const double a0 = 2 * M_PI * k / 24, a1 = 2 * M_PI * (k + 1) / 24;
+        const Vec3d p0{0.5 + 0.1 * std::cos(a0), 0, 0.5 + 0.1 * std::sin(a0)};
+        const Vec3d p1{0.5 + 0.1 * std::cos(a1), 0, 0.5 + 0.1 * std::sin(a1)};
+        verify::addGrid(triangles, p0, {0, 0.6, 0}, p1 - p0, 3, 1);  // faces outwards
+    }
+    const PatchMesh mesh = verify::patchesOf(triangles);
+    const RadiositySystem system = greySystem(mesh, 0.5, 1);
+    HierarchySettings coarse;  // links high in the tree
+    coarse.linkTolerance = 1e-3;
+    const auto transport = build(mesh, system, coarse);
+    ASSERT_TRUE(transport);
+    ASSERT_GT(transport->farLinks().others.size(), 0u);
+    const std::size_t n = mesh.patchCount(), m = 2;
+    std::vector<uint8_t> sources(n, 0), receivers(n, 0);
+    std::vector<double> radiosity(n * m), masked(n * m, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        sources[i] = i % 7 == 0 || (i >= 72 && i < 90);  // scattered, and part of a wall
+        receivers[i] = i % 3 != 0;
+        for (std::size_t c = 0; c < m; ++c) {
+            radiosity[i * m + c] = 1 + 0.01 * double(i) + double(c);
+            if (sources[i]) masked[i * m + c] = radiosity[i * m + c];
+        }
+    }
+    std::vector<double> expected(n * m), got(n * m, -1.0);
+    transport->gather(masked, m, expected);
+    transport->gatherFrom(sources, receivers, radiosity, m, got);
+    int compared = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        for (std::size_t c = 0; c < m; ++c) {
+            if (!receivers[i]) {
+                ASSERT_EQ(got[i * m + c], -1.0) << "patch " << i;
+                continue;
+            }
+            ASSERT_NEAR(got[i * m + c], expected[i * m + c], 1e-12 + 1e-9 * expected[i * m + c])
+                << "patch " << i;
+            compared += expected[i * m + c] > 0;
+        }
+    }
+    EXPECT_GT(compared, int(n));
+}
+
 // A transport restored from parts (what the links cache stores) holds them to the tree: the
 // same parts give the same gather; a far link whose source slot lies past the last node, or
 // at a node that is not planar while the link is stored as planar, is refused, so a damaged
