@@ -169,10 +169,12 @@ private:
         // (as V = 1), dropped only when none did. A link whose partial visibility would not be
         // refined needs only an unbiased V, not a precise one: farRays / 4 segments, or one
         // (farRays / 8) when its bound Phi is within the visibility share of epsilon, so that
-        // no link's V noise, at most Phi / 2 on one segment, passes half that share. Those
-        // smallest links are most of a large scene's, and their noise averages out over a
-        // receiver's hundreds of links: the 250,002-triangle interior shot 442 M of its 553 M
-        // segments at 221 M such pairs, two each. One segment and two gave the same error
+        // its V noise (a standard deviation of at most half its estimate, at most 0.75 Phi, on
+        // one segment) stays within that share. Those links are most of a large scene's, and
+        // their noise averages out over a receiver's hundreds of links: by its counts of pairs
+        // and segments, the 250,002-triangle interior shot about 442 M of its 553 M segments
+        // at the about 221 M pairs not refined for visibility, two each (332 M segments in
+        // all with one for those within the share). One segment and two gave the same error
         // against the path tracer on the black-light box (2.42%) and the 30,012-triangle
         // interior (7.03% and 7.04%); one for every link under the threshold failed
         // HalfOccludedSquaresShareExactlyHalf's coarse case (8.5% off with 88 links).
