@@ -263,8 +263,9 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
     }
     // Links: each receiving node sums its half-links, s = -K (u . P_S) per wavelength; a planar
     // receiver keeps n_R . J = sum s (u . n_R), another J = sum s u. Between two planar nodes
-    // that is one weight times Q_S (planarWeights_), summed by the solver's vectorised kernel
-    // in the pairs' fixed order; the others apply their vector (prepareGather).
+    // that is one weight times Q_S (FarHalfLinks::planarWeights), summed by the solver's
+    // vectorised kernel in the pairs' fixed order (one by one, skipping, with sourceSlots);
+    // the others apply their vector (FarHalfLinks::OtherLink).
     const AccumulateFn<float> accumulate = accumulateFor<float>(m);
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, nodes, 256),
