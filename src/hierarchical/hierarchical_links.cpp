@@ -278,27 +278,83 @@ void addStats(LinkStats& into, const LinkStats& from) {
     into.raysCast += from.raysCast;
 }
 
-// Half-links grouped by receiver, each far record giving one to each side.
-void groupFarLinks(const std::vector<FarRecord>& records, std::size_t nodeCount,
-                   HierarchicalLinks& links) {
-    links.farOffsets.assign(nodeCount + 1, 0);
+// The records' half-links grouped by receiver, sources ascending, each record giving one to
+// each side, in the form the gather applies them (FarHalfLinks).
+FarHalfLinks groupFarLinks(const std::vector<FarRecord>& records, const ClusterTree& tree,
+                           const std::vector<Vec3d>& normals) {
+    const std::size_t nodes = tree.nodes.size();
+    const std::vector<Vec3d> orientation = gatherOrientations(tree, normals);
+    const std::vector<uint64_t> slots = gatherSlots(orientation);
+    const auto planar = [&orientation](uint32_t k) { return orientation[k] != Vec3d{}; };
+    FarHalfLinks far;
+    far.planarOffsets.assign(nodes + 1, 0);
+    far.otherOffsets.assign(nodes + 1, 0);
     for (const FarRecord& record : records) {
-        ++links.farOffsets[record.receiver + 1];
-        ++links.farOffsets[record.source + 1];
+        std::vector<uint64_t>& offsets =
+            planar(record.receiver) && planar(record.source) ? far.planarOffsets : far.otherOffsets;
+        ++offsets[record.receiver + 1];
+        ++offsets[record.source + 1];
     }
-    for (std::size_t k = 0; k < nodeCount; ++k)
-        links.farOffsets[k + 1] += links.farOffsets[k];
-    links.far.resize(links.farOffsets.back());
-    std::vector<uint64_t> cursor(links.farOffsets.begin(), links.farOffsets.end() - 1);
+    for (std::size_t k = 0; k < nodes; ++k) {
+        far.planarOffsets[k + 1] += far.planarOffsets[k];
+        far.otherOffsets[k + 1] += far.otherOffsets[k];
+    }
+    far.planarSlots.resize(far.planarOffsets[nodes]);
+    far.planarWeights.resize(far.planarOffsets[nodes]);
+    far.others.resize(far.otherOffsets[nodes]);
+    std::vector<uint64_t> planarCursor(far.planarOffsets.begin(), far.planarOffsets.end() - 1);
+    std::vector<uint64_t> otherCursor(far.otherOffsets.begin(), far.otherOffsets.end() - 1);
+    const auto add = [&](uint32_t r, uint32_t s, double coupling) {
+        const Vec3d u = farDirection(tree.nodes[r].centroid, tree.nodes[s].centroid);
+        const uint32_t slot = uint32_t(slots[s]);
+        if (planar(r) && planar(s)) {
+            const uint64_t e = planarCursor[r]++;
+            far.planarSlots[e] = slot;
+            far.planarWeights[e] =
+                float(-coupling * dot(u, orientation[s]) * dot(u, orientation[r]));
+            return;
+        }
+        Vec3d v;
+        if (planar(s)) {
+            v = u * (-coupling * dot(u, orientation[s]));
+        } else if (planar(r)) {
+            v = u * (-coupling * dot(u, orientation[r]));
+        } else {
+            v = u * std::sqrt(coupling);
+        }
+        far.others[otherCursor[r]++] = {planar(s) ? slot | FarHalfLinks::kPlanarSource : slot,
+                                        {float(v.x), float(v.y), float(v.z)}};
+    };
     for (const FarRecord& record : records) {
-        links.far[cursor[record.receiver]++] = {record.source, record.coupling};
-        links.far[cursor[record.source]++] = {record.receiver, record.coupling};
+        add(record.receiver, record.source, record.coupling);
+        add(record.source, record.receiver, record.coupling);
     }
-    for (std::size_t k = 0; k < nodeCount; ++k) {
-        std::sort(links.far.begin() + links.farOffsets[k],
-                  links.far.begin() + links.farOffsets[k + 1],
-                  [](const FarLink& a, const FarLink& b) { return a.source < b.source; });
-    }
+    // Sources ascending under each receiver (slots ascend with the node index): the order
+    // the threads' records came in does not show.
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, nodes, 1024),
+        [&](const tbb::blocked_range<std::size_t>& range) {
+            std::vector<std::pair<uint32_t, float>> planarRow;
+            for (std::size_t k = range.begin(); k != range.end(); ++k) {
+                const uint64_t begin = far.planarOffsets[k];
+                const uint64_t end = far.planarOffsets[k + 1];
+                planarRow.clear();
+                for (uint64_t e = begin; e < end; ++e)
+                    planarRow.emplace_back(far.planarSlots[e], far.planarWeights[e]);
+                std::sort(planarRow.begin(), planarRow.end());
+                for (uint64_t e = begin; e < end; ++e) {
+                    far.planarSlots[e] = planarRow[e - begin].first;
+                    far.planarWeights[e] = planarRow[e - begin].second;
+                }
+                std::sort(far.others.begin() + std::ptrdiff_t(far.otherOffsets[k]),
+                          far.others.begin() + std::ptrdiff_t(far.otherOffsets[k + 1]),
+                          [](const FarHalfLinks::OtherLink& a, const FarHalfLinks::OtherLink& b) {
+                              return (a.slot & ~FarHalfLinks::kPlanarSource) <
+                                  (b.slot & ~FarHalfLinks::kPlanarSource);
+                          });
+            }
+        });
+    return far;
 }
 
 // The near links' factors, both directions, as F's rows (zeros dropped).
@@ -353,6 +409,32 @@ Expected<SparseMatrix> evaluateNear(const std::vector<shared::PairIndex>& pairs,
 
 }  // namespace
 
+uint64_t FarHalfLinks::bytes() const {
+    return (planarOffsets.size() + otherOffsets.size()) * sizeof(uint64_t) +
+        planarSlots.size() * sizeof(uint32_t) + planarWeights.size() * sizeof(float) +
+        others.size() * sizeof(OtherLink);
+}
+
+std::vector<Vec3d> gatherOrientations(const ClusterTree& tree, const std::vector<Vec3d>& normals) {
+    std::vector<Vec3d> orientation(tree.nodes.size(), Vec3d{});
+    for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
+        const HierarchyNode& node = tree.nodes[k];
+        if (node.isLeaf()) {
+            orientation[k] = normals[tree.order[node.first]];
+        } else if (node.isPlanar()) {
+            orientation[k] = node.coneAxis;
+        }
+    }
+    return orientation;
+}
+
+std::vector<uint64_t> gatherSlots(const std::vector<Vec3d>& orientations) {
+    std::vector<uint64_t> slots(orientations.size() + 1, 0);
+    for (std::size_t k = 0; k < orientations.size(); ++k)
+        slots[k + 1] = slots[k] + (orientations[k] != Vec3d{} ? 1 : 3);
+    return slots;
+}
+
 Expected<HierarchicalLinks> buildHierarchicalLinks(
     const PatchMesh& mesh, const ClusterTree& tree, const PatchExposure& exposure,
     const LinkImportance& importance, const HierarchySettings& hierarchy,
@@ -361,7 +443,8 @@ Expected<HierarchicalLinks> buildHierarchicalLinks(
     const auto n = static_cast<uint32_t>(mesh.patchCount());
     if (n == 0) {
         links.near = SparseMatrix::zeros(0);
-        links.farOffsets.assign(1, 0);
+        links.far.planarOffsets.assign(1, 0);
+        links.far.otherOffsets.assign(1, 0);
         return links;
     }
     Timer timer;
@@ -424,7 +507,7 @@ Expected<HierarchicalLinks> buildHierarchicalLinks(
         std::vector<shared::PairIndex>().swap(local.near);
     }
     links.stats.farLinks = far.size();
-    groupFarLinks(far, tree.nodes.size(), links);  // each node's links sorted by source
+    links.far = groupFarLinks(far, tree, mesh.normals);
     std::vector<FarRecord>().swap(far);
     tbb::parallel_sort(near.begin(), near.end(),
                        [](const shared::PairIndex& a, const shared::PairIndex& b) {

@@ -65,17 +65,48 @@ struct HierarchySettings {
     double maxAperture = 0.25;
 };
 
-// One half of a far link, stored under its receiving node. Its direction u is the unit vector
-// from the receiver's centroid to the source's (HierarchyNode::centroid): farDirection.
-struct FarLink {
-    uint32_t source = 0;  // node index
-    float coupling = 0;  // K = V c / (pi r^2), scene units^-2
-};
-
+// The direction u of a far link received by a node: the unit vector from the receiver's
+// centroid to the source's (HierarchyNode::centroid).
 inline Vec3d farDirection(const Vec3d& receiverCentroid, const Vec3d& sourceCentroid) {
     const Vec3d between = sourceCentroid - receiverCentroid;
     return between / length(between);
 }
+
+// Per node, the orientation the gather gives it: a leaf's patch normal, a planar inner node's
+// cone axis (cluster_tree.h: every patch normal along it), zero for any other node, whose far
+// links take the vector form (hierarchical_transport.h).
+std::vector<Vec3d> gatherOrientations(const ClusterTree& tree, const std::vector<Vec3d>& normals);
+// Per node, where its pull values start in units of m (1 slot a planar node, 3 another), and
+// the end after the last node.
+std::vector<uint64_t> gatherSlots(const std::vector<Vec3d>& orientations);
+
+// The far half-links by receiving node, in the form the gather applies them (farGather):
+// between two planar nodes, the source's slot (where its pull values start, in units of m)
+// and the weight -K (u . n_S) (u . n_R); the others with their direction folded into one
+// vector (OtherLink). The build makes them in this form from its records, and the transport keeps
+// them so: a list of (source, K) per half-link beside it was as large again (1.95 of the 4.38 GiB
+// of the 250,002-triangle interior's transport).
+struct FarHalfLinks {
+    struct OtherLink {
+        uint32_t slot;  // the source's slot, kPlanarSource set when the source is planar
+        // A planar source's scalar Q_S gives J += Q_S v with v = -K (u . n_S) u; a planar
+        // receiver's n_R . J takes v . P_S with v = -K (u . n_R) u; between two other nodes
+        // J += -(v . P_S) v with v = sqrt(K) u.
+        float v[3];
+    };
+    static constexpr uint32_t kPlanarSource = 1u << 31;
+    std::vector<uint64_t> planarOffsets, otherOffsets;  // per node + 1
+    std::vector<uint32_t> planarSlots;
+    std::vector<float> planarWeights;
+    std::vector<OtherLink> others;
+
+    uint64_t count() const { return planarSlots.size() + others.size(); }
+    uint64_t count(std::size_t node) const {
+        return planarOffsets[node + 1] - planarOffsets[node] + otherOffsets[node + 1] -
+            otherOffsets[node];
+    }
+    uint64_t bytes() const;
+};
 
 struct LinkStats {
     uint64_t nearEntries = 0;  // stored F_ij of the near links (both directions)
@@ -92,8 +123,7 @@ struct LinkStats {
 
 struct HierarchicalLinks {
     SparseMatrix near;  // F_ij of the near links, patch rows
-    std::vector<uint64_t> farOffsets;  // per node: its received half-links' range in `far`
-    std::vector<FarLink> far;  // grouped by receiving node, sources ascending
+    FarHalfLinks far;  // by receiving node, sources ascending
     LinkStats stats;
 };
 

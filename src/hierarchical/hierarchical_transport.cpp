@@ -19,25 +19,18 @@
 
 namespace daisy {
 
-uint64_t FarHalfLinks::bytes() const {
-    return (planarOffsets.size() + otherOffsets.size()) * sizeof(uint64_t) +
-        planarSlots.size() * sizeof(uint32_t) + planarWeights.size() * sizeof(float) +
-        others.size() * sizeof(OtherLink);
-}
-
 HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, ClusterTree tree,
                                              HierarchicalLinks links, std::vector<float> exposure,
                                              const std::vector<uint8_t>& enclosed)
     : tree_(std::move(tree)),
       near_(std::move(links.near)),
       stats_(links.stats),
+      far_(std::move(links.far)),
       normals_(mesh.normals),
       areas_(mesh.areas),
       exposure_(std::move(exposure)) {
     const uint32_t n = near_.size;
     prepareNodes();
-    splitFarLinks(links);
-    std::vector<FarLink>().swap(links.far);  // kept only in far_'s form
     farScale_.assign(n, 1.0);
     // Row sums: G for B = 1 at one wavelength.
     const std::vector<double> ones(n, 1.0);
@@ -80,54 +73,12 @@ HierarchicalTransport::HierarchicalTransport(const PatchMesh& mesh, Hierarchical
 void HierarchicalTransport::prepareNodes() {
     // A planar node's patches share one normal (cluster_tree.h; a node's children are planar
     // when it is): its far links need the scalar form only. Leaves use the patch's own normal.
-    const std::size_t nodes = tree_.nodes.size();
-    orientation_.assign(nodes, Vec3d{});
-    centroids_.resize(nodes);
-    slot_.assign(nodes + 1, 0);
-    for (std::size_t k = 0; k < nodes; ++k) {
-        const HierarchyNode& node = tree_.nodes[k];
-        centroids_[k] = node.centroid;
-        if (node.isLeaf()) {
-            orientation_[k] = normals_[tree_.order[node.first]];
-        } else if (node.isPlanar()) {
-            orientation_[k] = node.coneAxis;
-        }
-        slot_[k + 1] = slot_[k] + (isPlanar(k) ? 1 : 3);
-    }
-    DAISY_CHECK(slot_[nodes] < FarHalfLinks::kPlanarSource);
-}
-
-void HierarchicalTransport::splitFarLinks(const HierarchicalLinks& links) {
-    const std::size_t nodes = tree_.nodes.size();
-    far_.planarOffsets.assign(nodes + 1, 0);
-    far_.otherOffsets.assign(nodes + 1, 0);
-    for (std::size_t k = 0; k < nodes; ++k) {
-        for (uint64_t e = links.farOffsets[k]; e < links.farOffsets[k + 1]; ++e) {
-            const FarLink& link = links.far[e];
-            const Vec3d u = farDirection(centroids_[k], centroids_[link.source]);
-            const double coupling = link.coupling;
-            const uint32_t slot = uint32_t(slot_[link.source]);
-            if (isPlanar(k) && isPlanar(link.source)) {
-                far_.planarSlots.push_back(slot);
-                far_.planarWeights.push_back(
-                    float(-coupling * dot(u, orientation_[link.source]) * dot(u, orientation_[k])));
-                continue;
-            }
-            Vec3d v;
-            if (isPlanar(link.source)) {
-                v = u * (-coupling * dot(u, orientation_[link.source]));
-            } else if (isPlanar(k)) {
-                v = u * (-coupling * dot(u, orientation_[k]));
-            } else {
-                v = u * std::sqrt(coupling);
-            }
-            far_.others.push_back(
-                {isPlanar(link.source) ? slot | FarHalfLinks::kPlanarSource : slot,
-                 {float(v.x), float(v.y), float(v.z)}});
-        }
-        far_.planarOffsets[k + 1] = far_.planarSlots.size();
-        far_.otherOffsets[k + 1] = far_.others.size();
-    }
+    orientation_ = gatherOrientations(tree_, normals_);
+    slot_ = gatherSlots(orientation_);
+    centroids_.resize(tree_.nodes.size());
+    for (std::size_t k = 0; k < tree_.nodes.size(); ++k)
+        centroids_[k] = tree_.nodes[k].centroid;
+    DAISY_CHECK(slot_.back() < FarHalfLinks::kPlanarSource);
 }
 
 TransportStats HierarchicalTransport::stats() const {

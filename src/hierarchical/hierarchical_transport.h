@@ -59,33 +59,6 @@ inline constexpr uint8_t kEnclosedInOpenRegion = 2;  // filled when within kOpen
 // moves by 0.02% either way.
 inline constexpr double kOpenFill = 0.05;
 
-// The far half-links by receiving node, in the form the gather applies them (farGather):
-// between two planar nodes, the source's slot (where its pull values start, in units of m)
-// and the weight -K (u . n_S) (u . n_R); the others with their direction folded into one
-// vector (OtherLink). The transport keeps the far links in this form only: the FarLink list
-// beside it was as large again (1.95 of the 4.38 GiB of the 250,002-triangle interior's).
-struct FarHalfLinks {
-    struct OtherLink {
-        uint32_t slot;  // the source's slot, kPlanarSource set when the source is planar
-        // A planar source's scalar Q_S gives J += Q_S v with v = -K (u . n_S) u; a planar
-        // receiver's n_R . J takes v . P_S with v = -K (u . n_R) u; between two other nodes
-        // J += -(v . P_S) v with v = sqrt(K) u.
-        float v[3];
-    };
-    static constexpr uint32_t kPlanarSource = 1u << 31;
-    std::vector<uint64_t> planarOffsets, otherOffsets;  // per node + 1
-    std::vector<uint32_t> planarSlots;
-    std::vector<float> planarWeights;
-    std::vector<OtherLink> others;
-
-    uint64_t count() const { return planarSlots.size() + others.size(); }
-    uint64_t count(std::size_t node) const {
-        return planarOffsets[node + 1] - planarOffsets[node] + otherOffsets[node + 1] -
-            otherOffsets[node];
-    }
-    uint64_t bytes() const;
-};
-
 // What the disk cache keeps of a built transport (pipeline/links_cache.h): enough to restore
 // it exactly, the near factors and the far scales as the row caps left them.
 struct HierarchicalParts {
@@ -143,8 +116,6 @@ public:
 private:
     // The per-node arrays the gather reads (a valid tree).
     void prepareNodes();
-    // The far links of `links` by receiver, split as far_ holds them.
-    void splitFarLinks(const HierarchicalLinks& links);
     // checkStructure's part on the tree and the per-patch arrays.
     std::string checkTree() const;
     // Per node: its normal when it is planar (every leaf is), else zero.
