@@ -75,16 +75,12 @@ void HierarchicalTransport::prepareNodes() {
     // when it is): its far links need the scalar form only. Leaves use the patch's own normal.
     orientation_ = gatherOrientations(tree_, normals_);
     slot_ = gatherSlots(orientation_);
-    centroids_.resize(tree_.nodes.size());
-    for (std::size_t k = 0; k < tree_.nodes.size(); ++k)
-        centroids_[k] = tree_.nodes[k].centroid;
     DAISY_CHECK(slot_.back() < FarHalfLinks::kPlanarSource);
 }
 
 TransportStats HierarchicalTransport::stats() const {
     return {near_.nonzeroCount() + far_.count(),
-            near_.bytes() + far_.bytes() + tree_.bytes() +
-                (orientation_.size() + centroids_.size()) * sizeof(Vec3d) +
+            near_.bytes() + far_.bytes() + tree_.bytes() + orientation_.size() * sizeof(Vec3d) +
                 slot_.size() * sizeof(uint64_t) + (normals_.size() * sizeof(Vec3d)) +
                 2 * areas_.size() * sizeof(double) + exposure_.size() * sizeof(float)};
 }
@@ -521,7 +517,7 @@ HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengt
     estimate.nearEntries = static_cast<uint64_t>(double(n) * nearPerPatch);
     estimate.farLinks = static_cast<uint64_t>(double(n) * farPerPatch);
     const uint64_t nodes = n > 0 ? 2 * n - 1 : 0;
-    const uint64_t nodeBytes = nodes * (sizeof(HierarchyNode) + 8 + 2 * sizeof(Vec3d) + 2 * 8) +
+    const uint64_t nodeBytes = nodes * (sizeof(HierarchyNode) + 8 + sizeof(Vec3d) + 2 * 8) +
         n * (sizeof(Vec3d) + 2 * sizeof(double) + 8) + nodes * 3 * wavelengthCount * (4 + 8);
     // A far half-link (FarHalfLinks) takes 8 bytes between two planar nodes and 16 otherwise,
     // about a fifth of them on the interiors: 12 bytes.

@@ -129,7 +129,6 @@ private:
     std::vector<double> areas_;  // per patch
     std::vector<float> exposure_;  // per patch: phi
     std::vector<Vec3d> orientation_;  // per node: see isPlanar
-    std::vector<Vec3d> centroids_;  // per node: HierarchyNode::centroid, packed for the gather
     std::vector<uint64_t> slot_;  // per node: its far-gather values start at slot_ x m; + end
     // The far gather's pull (float: the links read it at random, so its size is their memory
     // traffic) and push values, reused by one gather at a time (another concurrent one
