@@ -349,8 +349,7 @@ FarHalfLinks groupFarLinks(const std::vector<FarRecord>& records, const ClusterT
                 std::sort(far.others.begin() + std::ptrdiff_t(far.otherOffsets[k]),
                           far.others.begin() + std::ptrdiff_t(far.otherOffsets[k + 1]),
                           [](const FarHalfLinks::OtherLink& a, const FarHalfLinks::OtherLink& b) {
-                              return (a.slot & ~FarHalfLinks::kPlanarSource) <
-                                  (b.slot & ~FarHalfLinks::kPlanarSource);
+                              return a.source() < b.source();
                           });
             }
         });

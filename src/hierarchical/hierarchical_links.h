@@ -87,14 +87,17 @@ std::vector<uint64_t> gatherSlots(const std::vector<Vec3d>& orientations);
 // them so: a list of (source, K) per half-link beside it was as large again (1.95 of the 4.38 GiB
 // of the 250,002-triangle interior's transport).
 struct FarHalfLinks {
+    static constexpr uint32_t kPlanarSource = 1u << 31;
     struct OtherLink {
         uint32_t slot;  // the source's slot, kPlanarSource set when the source is planar
         // A planar source's scalar Q_S gives J += Q_S v with v = -K (u . n_S) u; a planar
         // receiver's n_R . J takes v . P_S with v = -K (u . n_R) u; between two other nodes
         // J += -(v . P_S) v with v = sqrt(K) u.
         float v[3];
+
+        uint32_t source() const { return slot & ~kPlanarSource; }  // the source's slot
+        bool planarSource() const { return (slot & kPlanarSource) != 0; }
     };
-    static constexpr uint32_t kPlanarSource = 1u << 31;
     std::vector<uint64_t> planarOffsets, otherOffsets;  // per node + 1
     std::vector<uint32_t> planarSlots;
     std::vector<float> planarWeights;

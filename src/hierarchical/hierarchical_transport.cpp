@@ -145,8 +145,8 @@ std::string HierarchicalTransport::checkStructure() const {
         }
         for (uint64_t e = far_.otherOffsets[k]; e < far_.otherOffsets[k + 1]; ++e) {
             const FarHalfLinks::OtherLink& link = far_.others[e];
-            const bool planarSource = (link.slot & FarHalfLinks::kPlanarSource) != 0;
-            const uint32_t slot = link.slot & ~FarHalfLinks::kPlanarSource;
+            const bool planarSource = link.planarSource();
+            const uint32_t slot = link.source();
             const bool finite =
                 std::isfinite(link.v[0]) && std::isfinite(link.v[1]) && std::isfinite(link.v[2]);
             if (slot >= starts.size() || starts[slot] != (planarSource ? 1 : 2) || !finite ||
@@ -234,13 +234,12 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
                 const bool planarReceiver = isPlanar(k);
                 for (uint64_t o = far_.otherOffsets[k]; o < far_.otherOffsets[k + 1]; ++o) {
                     const FarHalfLinks::OtherLink& link = far_.others[o];
-                    if (!sourceSlots.empty() &&
-                        !sourceSlots[link.slot & ~FarHalfLinks::kPlanarSource]) {
+                    if (!sourceSlots.empty() && !sourceSlots[link.source()]) {
                         continue;
                     }
-                    const float* __restrict p = at(pull, link.slot & ~FarHalfLinks::kPlanarSource);
+                    const float* __restrict p = at(pull, link.source());
                     const double x = link.v[0], y = link.v[1], z = link.v[2];
-                    if (link.slot & FarHalfLinks::kPlanarSource) {
+                    if (link.planarSource()) {
                         for (std::size_t c = 0; c < m; ++c) {
                             const double q = p[c];
                             j[c] += x * q, j[m + c] += y * q, j[2 * m + c] += z * q;

@@ -695,11 +695,11 @@ TEST(HierarchicalTransport, CornellBoxMatchesTheMatrixPath) {
         }
         for (uint64_t e = far.otherOffsets[r]; e < far.otherOffsets[r + 1]; ++e) {
             const FarHalfLinks::OtherLink& link = far.others[e];
-            const uint32_t s = nodeAt(link.slot & ~FarHalfLinks::kPlanarSource);
+            const uint32_t s = nodeAt(link.source());
             const auto begin = far.others.begin() + std::ptrdiff_t(far.otherOffsets[s]);
             const auto end = far.others.begin() + std::ptrdiff_t(far.otherOffsets[s + 1]);
             const auto other = std::find_if(begin, end, [back](const FarHalfLinks::OtherLink& l) {
-                return (l.slot & ~FarHalfLinks::kPlanarSource) == back;
+                return l.source() == back;
             });
             ASSERT_TRUE(other != end) << "node " << r << " and " << s;
             const float sign = planar(r) || planar(s) ? 1.0f : -1.0f;
