@@ -91,6 +91,7 @@ private:
         }
         node.coneAxis = mesh_.normals[patch];
         node.coneCos = 1;
+        node.normalLo = node.normalHi = node.coneAxis;
         node.slabLo = INFINITY, node.slabHi = -INFINITY;
         for (uint32_t corner : mesh_.patches[patch]) {
             const double offset = dot(node.coneAxis, mesh_.positions[corner]);
@@ -158,6 +159,10 @@ private:
             for (int k = 0; k < 6; ++k)
                 node.spread[k] += share * child->spread[k];
             addOuter(node.spread, child->centroid - node.centroid, share);
+        }
+        for (int k = 0; k < 3; ++k) {
+            node.normalLo[k] = std::min(a.normalLo[k], b.normalLo[k]);
+            node.normalHi[k] = std::max(a.normalHi[k], b.normalHi[k]);
         }
         // The cone: around the children's area-weighted mean axis, wide enough for both
         // children's cones (each child's half-angle plus the angle between the axes).

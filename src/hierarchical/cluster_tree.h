@@ -51,6 +51,10 @@ struct HierarchyNode {
     Vec3d coneAxis;  // unit axis of the cone holding every patch normal
     // cos of the cone's half-angle; -1 when the normals do not fit in a half-space cone
     double coneCos = 1;
+    // The box of the patches' unit normals, component by component: a second bound beside the
+    // cone, tight where the cone is loose (a strip of a barrel vault: its normals lie on an arc
+    // with no component along the barrel, while the cone round them reaches along it).
+    Vec3d normalLo, normalHi;
     // The extent of the patches' corners along coneAxis, scene units: for a planar node
     // (isPlanar) the exact range over its corners (lo == hi to rounding when the patches lie in
     // one plane); otherwise the bounding sphere's.

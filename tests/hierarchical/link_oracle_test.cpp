@@ -6,6 +6,8 @@
 
 #include <cmath>
 
+#include "geometry/patch_mesh.h"
+#include "hierarchical/cluster_tree.h"
 #include "radiosity/solver_test_util.h"
 
 namespace daisy {
@@ -23,6 +25,7 @@ HierarchyNode square(double z, double side, bool up, uint32_t count = 2) {
     node.area = side * side;
     node.coneAxis = {0, 0, up ? 1.0 : -1.0};
     node.coneCos = 1;
+    node.normalLo = node.normalHi = node.coneAxis;
     node.slabLo = node.slabHi = up ? z : -z;
     return node;
 }
@@ -39,6 +42,7 @@ HierarchyNode wallFacingMinusX(double x, double z) {
     wall.area = 1;
     wall.coneAxis = {-1, 0, 0};
     wall.coneCos = 1;
+    wall.normalLo = wall.normalHi = wall.coneAxis;
     wall.slabLo = wall.slabHi = -x;
     return wall;
 }
@@ -123,6 +127,8 @@ TEST(LinkOracle, ACurvedNodeFacingTheCentroidsDirectionIsLinkedWithinEpsilon) {
     curved.area = 0.5;
     curved.coneAxis = {0, 0, 1};
     curved.coneCos = 0.5;
+    curved.normalLo = {-std::sqrt(0.75), -std::sqrt(0.75), 0.5};
+    curved.normalHi = {std::sqrt(0.75), std::sqrt(0.75), 1};
     curved.slabLo = -0.5, curved.slabHi = 0.5;
     ASSERT_FALSE(curved.isPlanar());
     HierarchyNode above = square(10, 3, false);
@@ -143,6 +149,87 @@ TEST(LinkOracle, ACurvedNodeFacingTheCentroidsDirectionIsLinkedWithinEpsilon) {
 // the upper shelf's plane but in front of the lower one's, so the pair faces in part and must be
 // split, not dropped (it was dropped as "behind or within" the slab, losing up to 38% of some
 // patches' rows on the black-light box).
+// A strip of a barrel vault along z: its normals on an arc of 20 degrees round -y across the
+// barrel (none along it), and a leaf 12 down the barrel and 0.5 lower facing back along -z.
+// Every normal faces every direction to the leaf's sphere (n . u >= 0.0416 cos 10 degrees
+// against a chord of 0.033), but the cone round the arc (10 degrees) also holds normals tilted
+// along z, which would not: by the cone alone the strip faced the leaf in part and was split
+// down to its patches; by the box of its normals it is linked.
+TEST(LinkOracle, AVaultStripFacesAPointDownTheBarrelByItsNormalsBox) {
+    const double tilt = 10 * M_PI / 180;
+    HierarchyNode strip;
+    strip.count = 4;
+    strip.boxLo = {-0.2, -0.05, -0.2};
+    strip.boxHi = {0.2, 0.0, 0.2};
+    strip.center = strip.centroid = {0, -0.025, 0};
+    strip.radius = 0.29;
+    strip.area = 0.16;
+    strip.coneAxis = {0, -1, 0};
+    strip.coneCos = std::cos(tilt);
+    strip.normalLo = {-std::sin(tilt), -1, 0};
+    strip.normalHi = {std::sin(tilt), -std::cos(tilt), 0};
+    strip.slabLo = -0.29, strip.slabHi = 0.29;
+    ASSERT_FALSE(strip.isPlanar());
+    HierarchyNode leaf;
+    leaf.boxLo = {-0.05, -0.6, 12};
+    leaf.boxHi = {0.05, -0.5, 12};
+    leaf.center = leaf.centroid = {0, -0.55, 12};
+    leaf.radius = std::sqrt(0.05 * 0.05 * 2);
+    leaf.area = 0.01;
+    leaf.coneAxis = leaf.normalLo = leaf.normalHi = {0, 0, -1};
+    leaf.slabLo = leaf.slabHi = -12;
+    const LinkWeights weights{1, 1, 1, 1};
+    EXPECT_EQ(chooseLink(strip, leaf, weights, 1e9, 0.25).choice, LinkChoice::Far);
+    HierarchyNode coneOnly = strip;
+    coneOnly.normalLo = {-1, -1, -1};
+    coneOnly.normalHi = {1, 1, 1};
+    EXPECT_EQ(chooseLink(coneOnly, leaf, weights, 1e9, 0.25).choice, LinkChoice::SplitReceiver);
+    // Turned over (normals round +y) every normal faces away from the leaf: nothing.
+    HierarchyNode over = strip;
+    over.coneAxis = {0, 1, 0};
+    over.normalLo = {-std::sin(tilt), std::cos(tilt), 0};
+    over.normalHi = {std::sin(tilt), 1, 0};
+    EXPECT_EQ(chooseLink(over, leaf, weights, 1e9, 0.25).choice, LinkChoice::None);
+}
+
+// The tree's box of normals is each node's least and greatest normal components over its
+// patches, on a polygonal half cylinder (a vault of 12 facets, 4 patches each).
+TEST(LinkOracle, TheClusterTreeBoundsEveryNodesNormalsByTheirBox) {
+    TriangleMesh mesh;
+    const int facets = 12;
+    for (int f = 0; f < facets; ++f) {
+        const double a0 = M_PI * f / facets, a1 = M_PI * (f + 1) / facets;
+        for (int z = 0; z < 2; ++z) {
+            const uint32_t base = uint32_t(mesh.positions.size());
+            mesh.positions.push_back({std::cos(a0), std::sin(a0), double(z)});
+            mesh.positions.push_back({std::cos(a1), std::sin(a1), double(z)});
+            mesh.positions.push_back({std::cos(a1), std::sin(a1), double(z + 1)});
+            mesh.positions.push_back({std::cos(a0), std::sin(a0), double(z + 1)});
+            mesh.triangles.push_back({base, base + 2, base + 1});
+            mesh.triangles.push_back({base, base + 3, base + 2});
+            mesh.materials.insert(mesh.materials.end(), 2, 0);
+        }
+    }
+    auto patches = buildPatchMesh(mesh, 0);
+    ASSERT_TRUE(patches.ok()) << patches.error().message;
+    const ClusterTree tree = buildClusterTree(*patches);
+    ASSERT_EQ(tree.nodes.size(), 2 * patches->patchCount() - 1);
+    for (const HierarchyNode& node : tree.nodes) {
+        Vec3d lo{1e9, 1e9, 1e9}, hi{-1e9, -1e9, -1e9};
+        for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+            const Vec3d& n = patches->normals[tree.order[k]];
+            for (int c = 0; c < 3; ++c)
+                lo[c] = std::min(lo[c], n[c]), hi[c] = std::max(hi[c], n[c]);
+        }
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_EQ(node.normalLo[c], lo[c]);
+            EXPECT_EQ(node.normalHi[c], hi[c]);
+        }
+        EXPECT_LT(std::abs(node.normalLo.z), 1e-12);  // no normal along the barrel
+        EXPECT_LT(std::abs(node.normalHi.z), 1e-12);
+    }
+}
+
 TEST(LinkOracle, AThickSlabFacesWhatLiesBetweenItsFaces) {
     HierarchyNode shelves = square(1, 1, false);
     shelves.boxHi.z = 3;
