@@ -499,19 +499,19 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
 }  // namespace
 
 HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengthCount) {
-    // Links per patch (docs/performance.md, "Hierarchical transport"): near factors 41, 24, 16
-    // and 12 and far links 163, 159, 186 and 268 at 60,024, 120,000, 240,016 and 500,004
-    // patches of the interior generator (far links growing as about n^0.5 at its largest
-    // sizes); near 161, 230, 137, 59 and 60 and far 172, 238, 248, 210 and 376 on the Cornell
-    // box, the coloured lights, the default scene, the double-sided and the single-sided
-    // Blender-style box. Near factors a patch fall as about n^-0.5 over all of those (finer
-    // patches are linked far sooner); the estimate takes 1.2 times the coloured lights' on
-    // that law (at most every patch), and 1.2 times the largest far count, 450 a patch, or the
-    // interior's growth past it.
+    // Links per patch (docs/performance.md, "Hierarchical transport"): near factors 39, 23, 16
+    // and 11 and far links 108, 80, 66 and 54 at 60,024, 120,000, 240,016 and 500,004 patches
+    // of the interior generator (they grew to 243 a patch before curved nodes were bounded by
+    // their normals' box); near 161, 230, 137, 59 and 60 and far 172, 238, 248, 210 and 376 on
+    // the Cornell box, the coloured lights, the default scene, the double-sided and the
+    // single-sided Blender-style box. Near factors a patch fall as about n^-0.5 over all of
+    // those (finer patches are linked far sooner); the estimate takes 1.2 times the coloured
+    // lights' on that law (at most every patch), and 1.2 times the largest far count, 450 a
+    // patch.
     const uint64_t n = mesh.patchCount();
     const double nearPerPatch =
         std::min(double(n), 1.2 * 230 * std::sqrt(3854.0 / std::max<double>(1, double(n))));
-    const double farPerPatch = std::max(450.0, 1.2 * 268 * std::sqrt(double(n) / 500004.0));
+    const double farPerPatch = 450.0;
     HierarchyEstimate estimate;
     estimate.nearEntries = static_cast<uint64_t>(double(n) * nearPerPatch);
     estimate.farLinks = static_cast<uint64_t>(double(n) * farPerPatch);
@@ -525,8 +525,9 @@ HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengt
     // While the links are built, before the transport's own arrays exist, each thread's records
     // (a grown vector holds up to twice them) sit beside their merged copy: 12 bytes a far
     // record and 8 a near pair (about one a near factor), three times over. Measured peaks of whole
-    // renders: 0.72, 1.33, 2.73 and 6.72 GiB at 60,024, 120,000, 240,016 and 500,004 patches of
-    // the interior generator, where this gives 1.20, 2.35, 4.62 and 9.50 GiB.
+    // renders: 0.52, 0.91, 1.65 and 3.14 GiB at 60,024, 120,000, 240,016 and 500,004 patches of
+    // the interior generator, where this gives 1.16, 2.27, 4.46 and 9.17 GiB: conservative
+    // (--max-memory refuses no build that would fit), by 2.2-2.9 times there.
     estimate.peakBytes = std::max(
         estimate.bytes, nodeBytes + estimate.farLinks * 3 * 12 + estimate.nearEntries * 3 * 8);
     return estimate;
