@@ -144,11 +144,6 @@ TEST(LinkOracle, ACurvedNodeFacingTheCentroidsDirectionIsLinkedWithinEpsilon) {
               LinkChoice::SplitReceiver);
 }
 
-// A thick planar slab: the undersides of two shelves facing down (-z), at z = 1 and z = 3, and
-// a wall between their heights (x = 0.5, z from 1.5 to 2.5, facing -x): the wall lies behind
-// the upper shelf's plane but in front of the lower one's, so the pair faces in part and must be
-// split, not dropped (it was dropped as "behind or within" the slab, losing up to 38% of some
-// patches' rows on the black-light box).
 // A strip of a barrel vault along z: its normals on an arc of 20 degrees round -y across the
 // barrel (none along it), and a leaf 12 down the barrel and 0.5 lower facing back along -z.
 // Every normal faces every direction to the leaf's sphere (n . u >= 0.0416 cos 10 degrees
@@ -230,6 +225,11 @@ TEST(LinkOracle, TheClusterTreeBoundsEveryNodesNormalsByTheirBox) {
     }
 }
 
+// A thick planar slab: the undersides of two shelves facing down (-z), at z = 1 and z = 3, and
+// a wall between their heights (x = 0.5, z from 1.5 to 2.5, facing -x): the wall lies behind
+// the upper shelf's plane but in front of the lower one's, so the pair faces in part and must be
+// split, not dropped (it was dropped as "behind or within" the slab, losing up to 38% of some
+// patches' rows on the black-light box).
 TEST(LinkOracle, AThickSlabFacesWhatLiesBetweenItsFaces) {
     HierarchyNode shelves = square(1, 1, false);
     shelves.boxHi.z = 3;
