@@ -37,9 +37,10 @@ std::vector<double> weightedColumns(const MaterialOperator& op, const std::vecto
 // Angles are compared with this margin (radians) so rounding never lets a cosine reach 0.
 constexpr double kFacingMargin = 1e-6;
 
-// The same question of the box of the node's normals (HierarchyNode::normalLo, normalHi): a
-// unit normal n and a unit w within sigma of u have n . w >= n . u - |w - u|, and |w - u| is at
-// most the chord 2 sin(sigma / 2); n . u ranges over the box's corners.
+// facingNormals' question (below) answered from the box of the node's normals
+// (HierarchyNode::normalLo, normalHi): a unit normal n and a unit w within sigma of u have
+// n . w >= n . u - |w - u|, |w - u| is at most the chord 2 sin(sigma / 2), and n . u ranges
+// over the box's corners.
 int facingBox(const HierarchyNode& node, const Vec3d& u, double sinSpread) {
     double lo = 0, hi = 0;
     for (int k = 0; k < 3; ++k) {
