@@ -28,10 +28,14 @@ constexpr std::size_t kParallelFrontier = 4096;
 // start and end on (and their neighbours at a shared edge) do not block them.
 constexpr float kSegmentTrim = 1e-4f;
 
+// A far link as the refinement finds it: K (coupling >= 0), or for a planar pair whose weight
+// was estimated from its segments (Refiner::far), minus that weight.
 struct FarRecord {
     uint32_t receiver, source;
     float coupling;
 };
+// Centroid cosine products at or under this take the segments' estimate (Refiner::far).
+constexpr double kCosineFloor = 1e-6;
 
 // The mean of cos_x cos_y / r^2 over area-uniform points x of R and y of S, relative to its
 // value at the centroids, to second order in the offsets s = (y - x) - d u (E[s] = 0, covariance
@@ -212,6 +216,36 @@ private:
         }
         const double distance = length(s.centroid - r.centroid);
         const Vec3d u = farDirection(r.centroid, s.centroid);
+        // Two planar nodes past the far field's aperture, or whose centroids' direction lies
+        // behind a side (pairs the oracle links because their whole exchange is within
+        // epsilon): the point-to-point form at the centroids, biased low there (or nothing),
+        // gives way to the mean of the segments' own kernel, V cos cos / (pi r^2) over
+        // area-uniform points of the exposed parts (unbiased), as the link's weight. Like K's
+        // it lies within [0, C] (r >= d - rho, capped below), so the oracle's bound holds.
+        const double cosines = dot(r.coneAxis, u) * -dot(s.coneAxis, u);
+        if (r.isPlanar() && s.isPlanar() &&
+            (cosines <= kCosineFloor ||
+             r.radius + s.radius > hierarchy_.maxAperture * length(s.center - r.center))) {
+            double sum = 0;
+            for (int k = 0; k < size; ++k) {
+                if (local.blocked[std::size_t(k)]) continue;
+                const Vec3d a{local.segments.x0[k], local.segments.y0[k], local.segments.z0[k]};
+                const Vec3d b{local.segments.x1[k], local.segments.y1[k], local.segments.z1[k]};
+                const Vec3d w = b - a;
+                const double r2 = dot(w, w);
+                if (!(r2 > 0)) continue;
+                sum += std::max(0.0, dot(r.coneAxis, w)) * std::max(0.0, -dot(s.coneAxis, w)) /
+                    (M_PI * r2 * r2);
+            }
+            // Capped as K below: weight <= K for cosines up to 1.
+            const double weight = std::min(sum / size, 1 / std::max(r.area, s.area));
+            if (weight > 0) {
+                local.far.push_back({pair.r, pair.s, float(-weight)});
+            } else {
+                ++local.stats.hidden;
+            }
+            return true;
+        }
         // Capped so that neither side's factor F = K cos cos A can pass 1 (kFarEstimateBound):
         // a pair linked at a wide aperture may have its centroids close together.
         const double coupling = std::min(
@@ -310,8 +344,9 @@ FarHalfLinks groupFarLinks(const std::vector<FarRecord>& records, const ClusterT
         if (planar(r) && planar(s)) {
             const uint64_t e = planarCursor[r]++;
             far.planarSlots[e] = slot;
-            far.planarWeights[e] =
-                float(-coupling * dot(u, orientation[s]) * dot(u, orientation[r]));
+            far.planarWeights[e] = coupling < 0  // the weight itself (FarRecord)
+                ? float(-coupling)
+                : float(-coupling * dot(u, orientation[s]) * dot(u, orientation[r]));
             return;
         }
         Vec3d v;

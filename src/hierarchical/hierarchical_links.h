@@ -19,7 +19,11 @@
 //   linear in B on both sides, so the link needs no cluster emission model beyond the patches'
 //   own normals: the "vector" pull P and the push of J = sum K (-u . P_S) u (hierarchical_
 //   transport.h). One link serves both directions (S receives K (u . P_R) along -u): reciprocity
-//   A_R F_RS = A_S F_SR holds per link by construction.
+//   A_R F_RS = A_S F_SR holds per link by construction. Between two planar nodes linked past
+//   the far field's aperture (rho / d over maxAperture) or with the centroids' direction behind
+//   a side, the link's weight K (u . n_R)(-u . n_S) is instead the mean of the segments' own
+//   kernel, V cos cos / (pi r^2) (the oracle links such pairs only when their whole exchange
+//   is within epsilon: link_oracle.h).
 //
 // The oracle, per candidate pair (R, S) with bounding spheres (c, rho) and normal cones:
 // - a pair one of whose sides faces wholly away from the other exchanges nothing: no link;

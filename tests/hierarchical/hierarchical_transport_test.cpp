@@ -108,6 +108,35 @@ TEST(HierarchicalTransport, HalfOccludedSquaresShareExactlyHalf) {
     }
 }
 
+// A wall (x = 0, facing -x, 8 x 8 quads) standing on a floor that runs past its plane (x from
+// -1 to 1.5, 20 x 8 quads): the wall sees the unit square of floor in front of it, Howell C-14,
+// and nothing behind. At a coarse tolerance the wall's nodes and the floor's pair up while
+// their whole exchange is within epsilon, some with the floor's centroid behind the wall: such
+// planar pairs are linked with the mean of their segments' own kernel (unbiased; dropped
+// before, the factor read 1.1% low). Over 16 seeds the mean is C-14 to 0.6% (measured 0.4%).
+TEST(HierarchicalTransport, AFloorRunningPastAWallsPlaneGivesItHowellC14) {
+    TriangleMesh triangles;
+    verify::addGrid(triangles, {0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 8, 8);
+    verify::addGrid(triangles, {-1, 0, 0}, {2.5, 0, 0}, {0, 1, 0}, 20, 8);
+    const PatchMesh mesh = verify::patchesOf(triangles);
+    ASSERT_EQ(mesh.patchCount(), 448u);
+    const RadiositySystem system = greySystem(mesh, 0.5, 1);
+    auto exposure = patchExposure(mesh);
+    ASSERT_TRUE(exposure.ok());
+    HierarchySettings hierarchy;
+    hierarchy.linkTolerance = 1e-2;
+    double mean = 0;
+    for (uint64_t seed = 1; seed <= 16; ++seed) {
+        FormFactorSettings settings = quietSettings();
+        settings.seed = seed;
+        auto transport = buildHierarchicalTransport(mesh, *exposure, system, hierarchy, settings);
+        ASSERT_TRUE(transport.ok()) << transport.error().message;
+        EXPECT_EQ((*transport)->checkStructure(), "");
+        mean += groupFactor(mesh, **transport, 0, 128, 128, 448) / 16;
+    }
+    EXPECT_NEAR(mean, verify::kHowellC14, 6e-3 * verify::kHowellC14);
+}
+
 // A 0.5 m square 4 m above a unit square, emitting, as 2 triangles or as a 32 x 32 grid of
 // 2,048: the cluster of small coplanar squares transports what the one square does, to the
 // oracle's bound (within 0.5%), and both are the point-to-point factor A_s / (pi d^2) less the
@@ -246,7 +275,10 @@ TEST(HierarchicalTransport, ASheetUnderFloorTilesDoesNotShadeThem) {
         factors[sheet] = groupFactor(mesh, *transport, lamp, tiles, 0, lamp);
     }
     EXPECT_GT(factors[0], 0.15);  // unit squares 1 apart: 0.1998 (Howell C-11)
-    EXPECT_NEAR(factors[1], factors[0], 0.01 * factors[0]) << factors[0];
+    // 2%: at this tolerance the lamp and the tiles meet past the far field's aperture, where a
+    // link's weight is its few segments' mean kernel (unbiased, not exact); the shading this
+    // guards against was 15-20%.
+    EXPECT_NEAR(factors[1], factors[0], 0.02 * factors[0]) << factors[0];
 }
 
 // The black-light box's back wall behind its eight posters (2 cm deep boxes on the wall): the

@@ -92,8 +92,10 @@ TEST(LinkOracle, PairsFacingAwayOrCoplanarExchangeNothing) {
 // z = 0.5 up; the floor 0 <= x <= 3 at z = -4, facing +z): the wall faces the floor in part.
 // Over epsilon the pair is split (the wall, the side that faces in part); once the pair's whole
 // exchange is within epsilon, a far link when each centroid lies in front of the other's plane
-// (the floor's centroid x = 1.5 is in front of the wall), nothing when one does not (a floor
-// from x = 1.2 to 4.2 has its centroid behind the wall).
+// (the floor's centroid x = 1.5 is in front of the wall), and also when one does not (a floor
+// from x = 1.2 to 4.2 has its centroid behind the wall): two planar nodes, whose link is
+// weighed by its segments (hierarchical_links.h); a curved side facing away from the
+// centroids' direction gets nothing.
 TEST(LinkOracle, APairFacingInPartIsLinkedOnceItsWholeExchangeIsWithinEpsilon) {
     const LinkWeights weights{1, 1, 1, 1};
     const HierarchyNode wall = wallFacingMinusX(2, 0.5);
@@ -109,7 +111,13 @@ TEST(LinkOracle, APairFacingInPartIsLinkedOnceItsWholeExchangeIsWithinEpsilon) {
     EXPECT_NEAR(linked.error, epsilon, 1e-12 * epsilon);
     EXPECT_EQ(chooseLink(floor, wall, weights, epsilon * (1 - 1e-9), 0.25).choice,
               LinkChoice::SplitSource);
-    EXPECT_EQ(chooseLink(past, wall, weights, 1e9, 0.25).choice, LinkChoice::None);
+    EXPECT_EQ(chooseLink(past, wall, weights, 1e9, 0.25).choice, LinkChoice::Far);
+    HierarchyNode curvedWall = wall;
+    curvedWall.coneCos = 0.99;
+    curvedWall.normalLo = {-1, -0.1, -0.1};
+    curvedWall.normalHi = {-0.99, 0.1, 0.1};
+    ASSERT_FALSE(curvedWall.isPlanar());
+    EXPECT_EQ(chooseLink(past, curvedWall, weights, 1e9, 0.25).choice, LinkChoice::None);
 }
 
 // A curved node (normals within 60 degrees of +z, as a stretch of a vault seen from below) under
