@@ -15,6 +15,7 @@
 #include "core/progress.h"
 #include "core/timer.h"
 #include "geometry/shared_vec.h"
+#include "shared/formfactor.h"
 #include "shared/rng.h"
 #include "shared/sampling.h"
 
@@ -219,23 +220,21 @@ private:
         // Two planar nodes past the far field's aperture, or whose centroids' direction lies
         // behind a side (pairs the oracle links because their whole exchange is within
         // epsilon): the point-to-point form at the centroids, biased low there (or nothing),
-        // gives way to the mean of the segments' own kernel, V cos cos / (pi r^2) over
-        // area-uniform points of the exposed parts (unbiased), as the link's weight. Like K's
-        // it lies within [0, C] (r >= d - rho, capped below), so the oracle's bound holds.
+        // gives way to the mean of the segments' own kernel (shared::riemannKernel, V cos cos /
+        // (pi r^2)) over area-uniform points of the exposed parts (unbiased), as the link's
+        // weight. Like K's it lies within [0, C] (r >= d - rho, capped below), so the oracle's
+        // bound holds.
         const double cosines = dot(r.coneAxis, u) * -dot(s.coneAxis, u);
         if (r.isPlanar() && s.isPlanar() &&
             (cosines <= kCosineFloor ||
              r.radius + s.radius > hierarchy_.maxAperture * length(s.center - r.center))) {
+            const shared::vec3 nr = toVec3(r.coneAxis), ns = toVec3(s.coneAxis);
+            const SegmentArrays& g = local.segments;
             double sum = 0;
             for (int k = 0; k < size; ++k) {
                 if (local.blocked[std::size_t(k)]) continue;
-                const Vec3d a{local.segments.x0[k], local.segments.y0[k], local.segments.z0[k]};
-                const Vec3d b{local.segments.x1[k], local.segments.y1[k], local.segments.z1[k]};
-                const Vec3d w = b - a;
-                const double r2 = dot(w, w);
-                if (!(r2 > 0)) continue;
-                sum += std::max(0.0, dot(r.coneAxis, w)) * std::max(0.0, -dot(s.coneAxis, w)) /
-                    (M_PI * r2 * r2);
+                sum += shared::riemannKernel(shared::vec3(g.x0[k], g.y0[k], g.z0[k]), nr,
+                                             shared::vec3(g.x1[k], g.y1[k], g.z1[k]), ns);
             }
             // Capped as K below: weight <= K for cosines up to 1.
             const double weight = std::min(sum / size, 1 / std::max(r.area, s.area));
