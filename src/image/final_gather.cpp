@@ -381,6 +381,9 @@ private:
 // the cheap stand-in does (each open segment carries its own ratio, so every pixel needs some).
 constexpr int kPenumbraFactorExact = 16;
 constexpr int kPenumbraFactorApproximate = 4;
+// With the stand-in, a penumbra pixel takes this many times --gather-rays: the segments spread
+// over many lights (over kExactLightLimit), each light's visibility estimated from its own few.
+constexpr int kApproximateRayScale = 4;
 
 // Per pixel, 1 where the marks of its 8 neighbours (not the pixel's own) hold both an open and a
 // blocked segment to one light: a penumbra, or a shadow's edge, passes next to it.
@@ -515,11 +518,13 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
         spectra[light.spectrum] = light.emission;
     }
     const int penumbraFactor = exactWeights ? kPenumbraFactorExact : kPenumbraFactorApproximate;
-    // --gather-rays is per penumbra pixel; the others take 1 / penumbraFactor of it (at least
-    // one), shared out over the pixel's samples, at least one each; each sample draws its
-    // segments over all lights.
+    // --gather-rays (kApproximateRayScale times it with the stand-in) is per penumbra pixel;
+    // the others take 1 / penumbraFactor of it (at least one), shared out over the pixel's
+    // samples, at least one each; each sample draws its segments over all lights.
+    const int penumbraRays =
+        exactWeights ? direct.shadowRays : kApproximateRayScale * direct.shadowRays;
     const auto raysPerSample = [&](int samples) {
-        const int base = std::max(1, direct.shadowRays / penumbraFactor);
+        const int base = std::max(1, penumbraRays / penumbraFactor);
         return std::max(1, (base + samples - 1) / samples);
     };
     const int maxK = raysPerSample(minSide * minSide);
