@@ -5,8 +5,9 @@
 //
 // Two kinds of link:
 // - near: a pair of patches, with the factors the matrix path would give them (the backend's
-//   PairEvaluator: the view-factor kernel and its stratified shadow segments), stored as a
-//   sparse matrix of F_ij over the patches;
+//   PairEvaluator: the view-factor kernel and its stratified shadow segments), the hybrid rule's
+//   near cells refined to HierarchySettings::nearTolerance of each factor, stored as a sparse
+//   matrix of F_ij over the patches;
 // - far: a pair of nodes (R, S), each of whose patches faces every point of the other, with
 //   the far-field coupling K = V c / (pi r^2): r the distance between their area-weighted
 //   centroids, u the unit direction from R to S, V the share of shadow segments between
@@ -67,6 +68,12 @@ struct HierarchySettings {
     // Largest rho / d of a far link (sphere radii over centre distance): bounds each patch's
     // relative error of the far-field coupling whatever the link's power.
     double maxAperture = 0.25;
+    // The near links' hybrid rule refines its near cells to this share of each factor
+    // (shared::hybridPairFactorWithin; F's own is DAISY_FF_REL_TOL, 3e-4). The far links'
+    // errors are of the order of their aperture squared, and the final gather redoes the near
+    // field per pixel: at 1e-2 the 30,012-triangle interior's near factors took 3.1 s instead of
+    // 6.3 s and its picture moved by 0.01% (relative RMS luminance).
+    float nearTolerance = 1e-2f;
 };
 
 // The direction u of a far link received by a node: the unit vector from the receiver's

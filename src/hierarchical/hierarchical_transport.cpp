@@ -553,7 +553,7 @@ Expected<std::shared_ptr<const HierarchicalTransport>> buildHierarchicalTranspor
             surveyPatches(mesh, system, **caster, static_cast<uint32_t>(settings.seed));
         ClusterTree tree = buildClusterTree(mesh, survey.sheltered);
         const std::unique_ptr<PairEvaluator> evaluator =
-            makeRayPairEvaluator(mesh, settings, **caster);
+            makeRayPairEvaluator(mesh, settings, **caster, hierarchy.nearTolerance);
         auto links = buildHierarchicalLinks(mesh, tree, exposure,
                                             linkImportance(system, survey.lit, survey.dark),
                                             hierarchy, settings, *evaluator, **caster);

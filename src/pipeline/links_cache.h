@@ -21,7 +21,7 @@ namespace daisy {
 
 // Bump when the key's byte stream, the file layout, HierarchyNode, FarHalfLinks or LinkStats
 // change, or the rules that make the links (an entry would give other links than a build).
-inline constexpr uint32_t kLinksCacheVersion = 6;
+inline constexpr uint32_t kLinksCacheVersion = 7;
 
 using LinksKey = Hash128;
 

@@ -375,7 +375,7 @@ FormFactorKey Session::formFactorKey() const {
         // solution cache's keys add them.
         const HierarchySettings& h = s.settings.hierarchy;
         family = concat(family, " hierarchical ", h.linkTolerance, " ", h.farRays, " ",
-                        h.maxAperture, " ", h.visibilityShare);
+                        h.maxAperture, " ", h.visibilityShare, " ", h.nearTolerance);
     } else {
         if (s.resolvedBackend.empty()) s.resolvedBackend = resolveBackendName(s.settings.backend);
         family = backendFamily(s.resolvedBackend);

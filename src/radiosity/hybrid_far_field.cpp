@@ -258,11 +258,13 @@ bool planHybridPair(int level, const PatchGeometry& i, const PatchGeometry& j,
 }
 
 // shared::pairFactors (the accurate direction, reciprocity for the other entry) of the hybrid
-// method for pairs[k], planned into the scratch or, where planning fails, the shared kernel's;
-// facingAway tested only when `testFacing` (a candidate pair has passed it already).
+// method for pairs[k], planned into the scratch or, where planning fails, the shared kernel's
+// refined to `relativeTolerance`; facingAway tested only when `testFacing` (a candidate pair has
+// passed it already).
 void hybridPairFactors(int level, std::span<const PatchGeometry> geometry,
                        std::span<const FarFieldPatch> patches, std::span<const PairIndex> pairs,
-                       bool testFacing, std::span<shared::PairFactors> out, FarFieldScratch& s) {
+                       bool testFacing, std::span<shared::PairFactors> out, FarFieldScratch& s,
+                       float relativeTolerance) {
     const int l = shared::clamp(level, 0, DAISY_MAX_QUADRATURE_LEVEL);
     s.points.clear();
     s.cells.clear();
@@ -280,7 +282,8 @@ void hybridPairFactors(int level, std::span<const PatchGeometry> geometry,
         if (!(testFacing && shared::facingAway(first, second))) {
             planned =
                 planHybridPair(l, first, second, patches[firstIndex], patches[secondIndex], s);
-            if (!planned) direct = shared::hybridPairFactor(l, first, second);
+            if (!planned)
+                direct = shared::hybridPairFactorWithin(l, first, second, true, relativeTolerance);
         }
         s.pairs.push_back({planned ? uint32_t(s.cells.size()) : kNotPlanned, direct});
     }
@@ -327,7 +330,7 @@ shared::PairFactors onePair(int method, int level, const PatchGeometry& i, const
     shared::PairFactors f;
     FarFieldScratch scratch;
     hybridPairFactors(level, geometry, patches, std::span(&pair, 1), testFacing, std::span(&f, 1),
-                      scratch);
+                      scratch, DAISY_FF_REL_TOL);
     return f;
 }
 
@@ -368,12 +371,13 @@ std::vector<FarFieldPatch> farFieldPatches(std::span<const PatchGeometry> geomet
 
 void candidateFactorsCpu(int method, int level, std::span<const PatchGeometry> geometry,
                          std::span<const FarFieldPatch> patches, std::span<const PairIndex> pairs,
-                         std::span<shared::PairFactors> out, FarFieldScratch& scratch) {
+                         std::span<shared::PairFactors> out, FarFieldScratch& scratch,
+                         float relativeTolerance) {
     if (method != DAISY_METHOD_HYBRID) {
         for (std::size_t k = 0; k < pairs.size(); ++k)
             out[k] = shared::pairFactors(method, level, geometry[pairs[k].i], geometry[pairs[k].j]);
     } else {
-        hybridPairFactors(level, geometry, patches, pairs, false, out, scratch);
+        hybridPairFactors(level, geometry, patches, pairs, false, out, scratch, relativeTolerance);
     }
     for (std::size_t k = 0; k < pairs.size(); ++k) {
         out[k].fij = out[k].fij > 0.0f ? out[k].fij : 0.0f;

@@ -12,6 +12,7 @@
 #include <span>
 #include <vector>
 
+#include "shared/config.h"
 #include "shared/gpu_types.h"
 
 namespace daisy {
@@ -68,10 +69,12 @@ shared::PairFactors candidatePairFactorsCpu(int method, int level, const shared:
 
 // out[k] = candidatePairFactorsCpu(method, level, geometry[pairs[k].i], geometry[pairs[k].j])
 // with both entries clamped to >= 0, for every k, the far cells of all the pairs evaluated
-// together. patches = farFieldPatches(geometry); out.size() >= pairs.size().
+// together. patches = farFieldPatches(geometry); out.size() >= pairs.size(). The hybrid rule's
+// near cells refine to `relativeTolerance` of the factor (shared::hybridPairFactorWithin).
 void candidateFactorsCpu(int method, int level, std::span<const shared::PatchGeometry> geometry,
                          std::span<const FarFieldPatch> patches,
                          std::span<const shared::PairIndex> pairs,
-                         std::span<shared::PairFactors> out, FarFieldScratch& scratch);
+                         std::span<shared::PairFactors> out, FarFieldScratch& scratch,
+                         float relativeTolerance = DAISY_FF_REL_TOL);
 
 }  // namespace daisy

@@ -43,13 +43,14 @@ struct Scratch {
 class RayPairEvaluator final : public PairEvaluator {
 public:
     RayPairEvaluator(const PatchMesh& mesh, const FormFactorSettings& settings,
-                     const RayCaster& rays)
+                     const RayCaster& rays, float hybridTolerance)
         : geometry_(kernelPatches(mesh)),
           farField_(farFieldPatches(geometry_)),
           rays_(rays),
           method_(kernelMethod(settings.method)),
           level_(settings.quadratureLevel),
-          seed_(kernelSeed(settings.seed)) {}
+          seed_(kernelSeed(settings.seed)),
+          hybridTolerance_(hybridTolerance) {}
 
     std::string name() const override { return "cpu"; }
     std::size_t batchPairs() const override { return kBatchPairs; }
@@ -66,7 +67,8 @@ public:
                                   if (rays == 0) {
                                       candidateFactorsCpu(method_, level_, geometry_, farField_,
                                                           pairs.subspan(k, end - k), out.subspan(k),
-                                                          scratch_.local().farField);
+                                                          scratch_.local().farField,
+                                                          hybridTolerance_);
                                   } else {
                                       trace(pairs.subspan(k, end - k), rays, out.subspan(k));
                                   }
@@ -99,7 +101,7 @@ private:
         }
         scratch.openFactors.resize(scratch.openPairs.size());
         candidateFactorsCpu(method_, level_, geometry_, farField_, scratch.openPairs,
-                            scratch.openFactors, scratch.farField);
+                            scratch.openFactors, scratch.farField, hybridTolerance_);
         std::size_t s = 0;
         std::size_t next = 0;
         for (std::size_t p = 0; p < pairs.size(); ++p) {
@@ -131,6 +133,7 @@ private:
     int method_;
     int level_;
     uint32_t seed_;
+    float hybridTolerance_;
     mutable tbb::enumerable_thread_specific<Scratch> scratch_;
 };
 
@@ -138,8 +141,8 @@ private:
 
 std::unique_ptr<PairEvaluator> makeRayPairEvaluator(const PatchMesh& mesh,
                                                     const FormFactorSettings& settings,
-                                                    const RayCaster& rays) {
-    return std::make_unique<RayPairEvaluator>(mesh, settings, rays);
+                                                    const RayCaster& rays, float hybridTolerance) {
+    return std::make_unique<RayPairEvaluator>(mesh, settings, rays, hybridTolerance);
 }
 
 }  // namespace daisy

@@ -10,11 +10,15 @@
 #include "radiosity/form_factors.h"
 #include "radiosity/pair_evaluator.h"
 #include "raycast/ray_caster.h"
+#include "shared/config.h"
 
 namespace daisy {
 
+// The hybrid rule's near cells refine to `hybridTolerance` of each factor
+// (shared::hybridPairFactorWithin): F's own accuracy unless a caller needs less.
 std::unique_ptr<PairEvaluator> makeRayPairEvaluator(const PatchMesh& mesh,
                                                     const FormFactorSettings& settings,
-                                                    const RayCaster& rays);
+                                                    const RayCaster& rays,
+                                                    float hybridTolerance = DAISY_FF_REL_TOL);
 
 }  // namespace daisy

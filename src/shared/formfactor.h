@@ -277,22 +277,24 @@ DAISY_HD float cellError(DAISY_IN(QuadratureCell) cell, float share, uint shared
 // from DAISY_FF_MID_RATIO on, threePointRule; nearer, the cell joins a globally adaptive scheme
 // (as in QUADPACK's qag, Piessens et al. 1983): each listed cell carries the mean of its children's
 // threePointRule and an error estimate (cellError); while the summed estimate exceeds
-// DAISY_FF_REL_TOL times the current F_ij plus DAISY_FF_ABS_TOL, the cell with the largest estimate
-// is split into its children. f stays finite at a shared edge (its gradient has a log singularity)
-// and depends only on the direction at a shared vertex, so the refinement converges there too. The
-// list holds DAISY_FF_MAX_CELLS cells; when full (or a cell reaches DAISY_FF_MAX_DEPTH) refinement
-// stops. Near cells beyond 3/4 of the list (only for L >= 3) keep their children's mean unrefined,
-// and beyond the whole list (only for L >= 4) their own threePointRule. Listed cells are evaluated
-// one child (one threePointRule) at a time in a single loop: a SIMD device that runs every branch
-// (lavapipe) or waits for its slowest lane (any GPU) then pays for the children a pair really
-// needs, not for every call site of the rule. Preconditions: i.area > 0, j.area > 0. `nearCells`
-// false compiles the refinement out (a constant at every call site): a pair with a near cell then
-// returns DAISY_FF_NEEDS_NEAR_CELLS as soon as it meets one, and any other pair the value it has
-// with nearCells true (nothing listed: the refinement changes nothing). A device that runs every
-// branch of a shader, masked (lavapipe), then evaluates a far pair without paying for the
-// refinement's code (docs/backends.md, "The far-field pass").
-DAISY_HD float hybridPairFactorWith(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j,
-                                    bool nearCells) {
+// relativeTolerance (DAISY_FF_REL_TOL in hybridPairFactorWith) times the current F_ij plus
+// DAISY_FF_ABS_TOL, the cell with the largest estimate is split into its children. f stays finite
+// at a shared edge (its gradient has a log singularity) and depends only on the direction at a
+// shared vertex, so the refinement converges there too. The list holds DAISY_FF_MAX_CELLS cells;
+// when full (or a cell reaches DAISY_FF_MAX_DEPTH) refinement stops. Near cells beyond 3/4 of the
+// list (only for L >= 3) keep their children's mean unrefined, and beyond the whole list (only for
+// L >= 4) their own threePointRule. Listed cells are evaluated one child (one threePointRule) at a
+// time in a single loop: a SIMD device that runs every branch (lavapipe) or waits for its slowest
+// lane (any GPU) then pays for the children a pair really needs, not for every call site of the
+// rule. Preconditions: i.area > 0, j.area > 0. `nearCells` false compiles the refinement out (a
+// constant at every call site): a pair with a near cell then returns DAISY_FF_NEEDS_NEAR_CELLS as
+// soon as it meets one, and any other pair the value it has with nearCells true (nothing listed:
+// the refinement changes nothing). A device that runs every branch of a shader, masked (lavapipe),
+// then evaluates a far pair without paying for the refinement's code (docs/backends.md, "The
+// far-field pass").
+DAISY_HD float hybridPairFactorWithin(int level, DAISY_IN(PatchGeometry) i,
+                                      DAISY_IN(PatchGeometry) j, bool nearCells,
+                                      float relativeTolerance) {
     ClippedPolygon piece = clipTriangleToHalfSpace(i.a, i.b, i.c, j.a, j.normal);
     if (piece.count < 3) return 0.0f;
     vec3 jCentre = patchCentroid(j);
@@ -425,7 +427,7 @@ DAISY_HD float hybridPairFactorWith(int level, DAISY_IN(PatchGeometry) i, DAISY_
                 worstError = listError[k];
             }
         }
-        if (errorSum <= DAISY_FF_REL_TOL * total + DAISY_FF_ABS_TOL || worst < 0 ||
+        if (errorSum <= relativeTolerance * total + DAISY_FF_ABS_TOL || worst < 0 ||
             count + 3 > DAISY_FF_MAX_CELLS) {
             return total;
         }
@@ -445,6 +447,12 @@ DAISY_HD float hybridPairFactorWith(int level, DAISY_IN(PatchGeometry) i, DAISY_
         keep = count;
     }
     return 0.0f;
+}
+
+// The hybrid rule at the accuracy of F (DAISY_FF_REL_TOL).
+DAISY_HD float hybridPairFactorWith(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j,
+                                    bool nearCells) {
+    return hybridPairFactorWithin(level, i, j, nearCells, DAISY_FF_REL_TOL);
 }
 
 DAISY_HD float hybridPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j) {

@@ -117,6 +117,28 @@ TEST(FormFactorPair, HowellC14PerpendicularSquaresSharingAnEdge) {
     EXPECT_GT(squareFactor(DAISY_METHOD_RIEMANN, 1, kFloor, kWall), 1.2 * kHowellC14);
 }
 
+// The hybrid rule's adaptive cells stop at relativeTolerance of the factor (its error estimate,
+// the children's against their parent's): on the shared edge of Howell C-14 the error stays
+// within the tolerance (measured 1e-6, 1.7e-4 and 5e-6 of the factor at 3e-4, 1e-2 and 1e-1),
+// and a looser one evaluates fewer cells, so gives another value.
+TEST(FormFactorPair, HybridToleranceBoundsTheSharedEdgeError) {
+    const auto within = [](float tolerance) {
+        double sum = 0.0, area = 0.0;
+        for (const PatchGeometry& i : kFloor.t) {
+            area += i.area;
+            for (const PatchGeometry& j : kWall.t)
+                sum += i.area * hybridPairFactorWithin(1, i, j, true, tolerance);
+        }
+        return sum / area;
+    };
+    const double fine = within(DAISY_FF_REL_TOL), coarse = within(1e-2f), rough = within(1e-1f);
+    EXPECT_NEAR(fine, kHowellC14, 1e-4 * kHowellC14);
+    EXPECT_NEAR(coarse, kHowellC14, 1e-2 * kHowellC14);
+    EXPECT_NEAR(rough, kHowellC14, 1e-1 * kHowellC14);
+    EXPECT_NE(coarse, fine);
+    EXPECT_NE(rough, coarse);
+}
+
 // Unit cube with inward normals, each face an n x n grid of squares split into 2 triangles.
 std::vector<PatchGeometry> closedCube(int n) {
     std::vector<PatchGeometry> out;
