@@ -410,14 +410,17 @@ std::vector<uint8_t> penumbraNeighbours(const std::vector<uint64_t>& marks, int 
 
 std::vector<double> radiosityWithoutDirectLight(const RadiositySystem& system,
                                                 const Transport& transport,
-                                                std::span<const double> radiosity) {
+                                                std::span<const double> radiosity,
+                                                std::span<const uint8_t> patches) {
     const std::size_t n = system.patchCount, m = system.wavelengthCount;
     DAISY_CHECK(radiosity.size() == n * m && transport.patchCount() == n);
+    DAISY_CHECK(patches.empty() || patches.size() == n);
     const std::vector<double> own = ownEmission(system);
     std::vector<uint8_t> emitter(n), receiver(n);
     for (uint32_t j = 0; j < n; ++j) {
         emitter[j] = emits(own, m, j);
-        receiver[j] = !system.operators[system.patchOperator[j]].isZero;
+        receiver[j] = !system.operators[system.patchOperator[j]].isZero &&
+            (patches.empty() || patches[j] != 0);
     }
     std::vector<double> direct(n * m, 0.0);
     transport.gatherFrom(emitter, receiver, own, m, direct);

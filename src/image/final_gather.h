@@ -67,10 +67,12 @@ struct DirectLightSettings {
 };
 
 // B with the emitters' direct contribution removed: E_i + M_i (G_i - D_i) = B_i - M_i D_i
-// (n x m, row-major, the system's layout), D_i the emitters' light gathered through `transport`.
+// (n x m, row-major, the system's layout), D_i the emitters' light gathered through `transport`;
+// for the patches marked in `patches` only (empty: all), the others keep B_i.
 std::vector<double> radiosityWithoutDirectLight(const RadiositySystem& system,
                                                 const Transport& transport,
-                                                std::span<const double> radiosity);
+                                                std::span<const double> radiosity,
+                                                std::span<const uint8_t> patches = {});
 
 // H at each patch's centroid (n x m, the system's layout; 0 for patches that reflect nothing):
 // the estimate above with `direct.shadowRays` segments a patch, without F. The viewer's picture

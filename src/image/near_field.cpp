@@ -202,10 +202,12 @@ double NearField::windowWeight(double distance) const {
 
 NearField NearField::build(const PatchMesh& patches, const RadiositySystem& system,
                            const Transport& transport, std::span<const double> radiosity,
-                           const PatchExposure& exposure, const NearFieldSettings& settings) {
+                           const PatchExposure& exposure, const NearFieldSettings& settings,
+                           std::span<const uint8_t> receivers) {
     const std::size_t n = patches.patchCount(), m = system.wavelengthCount;
     DAISY_CHECK(system.patchCount == n && transport.patchCount() == n &&
                 radiosity.size() == n * m && exposure.fraction.size() == n);
+    DAISY_CHECK(receivers.empty() || receivers.size() == n);
     NearField field;
     field.wavelengthCount_ = m;
     field.radius_ = std::max(0.0, settings.radius * medianPatchSize(patches));
@@ -259,6 +261,7 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
         for (std::size_t i = range.begin(); i != range.end(); ++i) {
             const double phi = field.exposed_[i];
             if (system.operators[system.patchOperator[i]].isZero || phi <= 0) continue;
+            if (!receivers.empty() && receivers[i] == 0) continue;
             transport.row(uint32_t(i), entries);
             if (!(reach > 0) || settings.maxNeighbours <= 0) continue;
             const shared::PatchGeometry& gi = geometry[i];

@@ -61,11 +61,13 @@ public:
     // Per receiving patch: Near and Omega at its 15 lattice nodes (or the list of neighbours
     // it gathers exactly per sample) over the patches j with F_ij > 0 (the transport's row i) that
     // can lie within R of it, their means N_i and Omega_i over its exposed children. `radiosity`:
-    // the solved B (n x m, the system's layout). Parallel over patches (the caller's TBB arena);
-    // deterministic.
+    // the solved B (n x m, the system's layout). `receivers`: per patch, whether to build its
+    // part (empty: every patch); the others gather nothing near, as a patch without near
+    // neighbours. Parallel over patches (the caller's TBB arena); deterministic.
     static NearField build(const PatchMesh& patches, const RadiositySystem& system,
                            const Transport& transport, std::span<const double> radiosity,
-                           const PatchExposure& exposure, const NearFieldSettings& settings);
+                           const PatchExposure& exposure, const NearFieldSettings& settings,
+                           std::span<const uint8_t> receivers = {});
 
     // From the direct gather's smooth part b = B - M D (n x m), in place: S_i above (b_i for
     // patches without near neighbours).

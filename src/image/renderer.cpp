@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
 
@@ -108,6 +109,52 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
     };
     forEachImageRow(settings.height, settings.threads, renderRows);
     return image;
+}
+
+Expected<std::vector<uint8_t>> patchesInView(const PatchMesh& mesh, const Camera& camera,
+                                             const RenderSettings& settings,
+                                             const SampleShader* shader) {
+    if (auto ok = checkRayCamera(camera); !ok) return withContext(ok.error(), "render");
+    auto caster = makeRayCaster(mesh, {.packetMode = PacketMode::Packet16, .robust = true});
+    if (!caster) return withContext(caster.error(), "render");
+    const RayCaster& tracer = **caster;
+    int maxSide = samplesPerSide(settings.samplesPerPixel);
+    for (const uint8_t side : settings.pixelSides)
+        maxSide = std::max(maxSide, int(side));
+    const std::size_t rowSamples = std::size_t(settings.width) * maxSide * maxSide;
+    // Written by many rows at once: every write is a 1.
+    std::vector<std::atomic<uint8_t>> hit(mesh.patchCount());
+    forEachImageRow(settings.height, settings.threads, [&](const tbb::blocked_range<int>& rows) {
+        std::vector<Ray> rays(rowSamples);
+        std::vector<SurfaceHit> hits(rowSamples);
+        for (int y = rows.begin(); y != rows.end(); ++y) {
+            std::size_t k = 0;
+            for (int x = 0; x < settings.width; ++x) {
+                const int side = pixelSide(settings, x, y);
+                for (int s = 0; s < side * side; ++s) {
+                    const auto [ox, oy] = sampleOffset(s, side);
+                    rays[k++] = primaryRay(camera, settings.width, settings.height, x + ox, y + oy);
+                }
+            }
+            tracer.closestSurfaceHits(std::span<const Ray>(rays.data(), k),
+                                      std::span<SurfaceHit>(hits.data(), k));
+            for (std::size_t i = 0; i < k; ++i) {
+                if (shader != nullptr && hits[i].patch != kNoPatch)
+                    shader->resolve(rays[i], hits[i]);
+                if (hits[i].patch != kNoPatch)
+                    hit[hits[i].patch].store(1, std::memory_order_relaxed);
+            }
+        }
+    });
+    std::vector<uint8_t> needed(mesh.patchCount(), 0);
+    for (uint32_t p = 0; p < mesh.patchCount(); ++p) {
+        if (hit[p].load(std::memory_order_relaxed) == 0) continue;
+        for (const uint32_t corner : mesh.patches[p]) {
+            for (const uint32_t q : mesh.patchesAtVertex(corner))
+                needed[q] = 1;
+        }
+    }
+    return needed;
 }
 
 }  // namespace daisy

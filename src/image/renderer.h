@@ -57,4 +57,12 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                                    int channels, std::span<const float> background,
                                    const SampleShader* shader = nullptr);
 
+// Per patch, 1 when a sample of the image (renderCornerValues' rays and hits, after the
+// shader's resolve) lands on it or on a patch sharing a vertex with it (whose corner values
+// cornerValues() may average into it), else 0: what an image needs of the patches. Fails as
+// renderCornerValues on the ray caster and the camera.
+Expected<std::vector<uint8_t>> patchesInView(const PatchMesh& mesh, const Camera& camera,
+                                             const RenderSettings& settings,
+                                             const SampleShader* shader = nullptr);
+
 }  // namespace daisy

@@ -194,5 +194,50 @@ TEST(ImageRenderer, EdgeCoverageIsTheAreaFraction) {
     }
 }
 
+// patchesInView: a welded grid of 4 m cells at z = -1, facing the camera at the origin, whose
+// view covers |x| < 0.78, |y| < 0.58 there: all of it lies in the one triangle with corners
+// (-1, -3), (3, 1), (-1, 1), so that triangle is hit and the image needs it and the triangles
+// sharing a corner with it (six around each corner of this grid: 13 in all). The same grid
+// behind the camera is not needed.
+TEST(ImageRenderer, PatchesInViewAreTheHitPatchesAndTheirVertexNeighbours) {
+    TriangleMesh triangles;
+    const auto addGrid = [&](double z) {
+        const uint32_t base = uint32_t(triangles.positions.size());
+        for (int j = 0; j <= 20; ++j) {
+            for (int i = 0; i <= 20; ++i)
+                triangles.positions.push_back({-41.0 + 4 * i, -43.0 + 4 * j, z});
+        }
+        const auto at = [&](int i, int j) { return base + uint32_t(j * 21 + i); };
+        for (int j = 0; j < 20; ++j) {
+            for (int i = 0; i < 20; ++i) {
+                triangles.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+                triangles.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+            }
+        }
+    };
+    addGrid(-1.0);
+    addGrid(1.0);
+    const PatchMesh mesh = verify::patchesOf(triangles);
+    RenderSettings settings;
+    settings.width = 24;
+    settings.height = 18;
+    settings.samplesPerPixel = 4;
+    const auto needed = patchesInView(mesh, originCamera(), settings);
+    ASSERT_TRUE(needed.ok()) << needed.error().message;
+    ASSERT_EQ(needed->size(), mesh.patchCount());
+    const std::vector<Vec3d> hit = {{-1, -3, -1}, {3, 1, -1}, {-1, 1, -1}};
+    int count = 0;
+    for (uint32_t p = 0; p < mesh.patchCount(); ++p) {
+        bool touches = false;
+        for (const uint32_t v : mesh.patches[p]) {
+            for (const Vec3d& corner : hit)
+                touches = touches || length(mesh.positions[v] - corner) == 0;
+        }
+        EXPECT_EQ((*needed)[p], touches ? 1 : 0) << "patch " << p;
+        count += (*needed)[p];
+    }
+    EXPECT_EQ(count, 13);
+}
+
 }  // namespace
 }  // namespace daisy

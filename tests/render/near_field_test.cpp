@@ -123,6 +123,50 @@ TEST(NearFieldGather, ConcaveCornerMatchesThePointToPolygonClosedForm) {
     EXPECT_GT(atEdge, 0.4);
 }
 
+// Built for some receivers only (an image's patches in view), the field gives those patches
+// exactly what the full build gives them, and the others nothing near.
+TEST(NearFieldGather, ReceiversLeftOutGatherNothingAndTheOthersTheSame) {
+    Scene scene;
+    scene.path = "corner";
+    scene.mesh = verify::perpendicularSquares(4);  // floor z = 0 (+z), wall x = 0 (+x)
+    scene.materials = {verify::flatMaterial("flat", 0.5, 0)};
+    Session session = solvedSession(std::move(scene), 0);
+    const PatchMesh& patches = session.patches();
+    const std::size_t n = patches.patchCount();
+    std::vector<double> radiosity(n);
+    std::vector<uint8_t> receivers(n);
+    for (uint32_t p = 0; p < n; ++p) {
+        radiosity[p] = patches.normals[p].x > 0.99 ? 1.0 : 0.0;  // the wall's B = 1
+        receivers[p] = patches.centroids[p].y < 0.5;
+    }
+    NearFieldSettings settings;
+    settings.radius = 12;
+    auto exposure = patchExposure(patches);
+    ASSERT_TRUE(exposure.ok());
+    const NearField all = NearField::build(patches, session.system(), session.transport(),
+                                           radiosity, *exposure, settings);
+    const NearField some = NearField::build(patches, session.system(), session.transport(),
+                                            radiosity, *exposure, settings, receivers);
+    int kept = 0, left = 0;
+    for (uint32_t p = 0; p < n; ++p) {
+        if (patches.normals[p].z < 0.99) continue;  // the floor's patches
+        double full = 0, part = 0;
+        const double fullOmega = all.addIrradiance(p, 0.3f, 0.3f, std::span<double>(&full, 1));
+        const double partOmega = some.addIrradiance(p, 0.3f, 0.3f, std::span<double>(&part, 1));
+        if (receivers[p]) {
+            EXPECT_EQ(part, full) << p;
+            EXPECT_EQ(partOmega, fullOmega) << p;
+            kept += full > 0;
+        } else {
+            EXPECT_EQ(part, 0.0) << p;
+            EXPECT_EQ(partOmega, 0.0) << p;
+            left += full > 0;
+        }
+    }
+    EXPECT_GT(kept, 4);
+    EXPECT_GT(left, 4);
+}
+
 // A 2 cm fin standing on a floor of two big triangles (a poster panel's side on a wall): the
 // fin lights a strip of the floor narrower than the lattice's spacing (a quarter of the floor),
 // whose interpolant misses the strip's peak by a factor of several. Such a neighbour is
