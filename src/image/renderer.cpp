@@ -25,6 +25,34 @@ int pixelSide(const RenderSettings& settings, int x, int y) {
     return settings.pixelSides[std::size_t(y) * std::size_t(settings.width) + std::size_t(x)];
 }
 
+namespace {
+
+// The most samples a row of the image takes.
+std::size_t rowSampleCapacity(const RenderSettings& settings) {
+    int maxSide = samplesPerSide(settings.samplesPerPixel);
+    for (const uint8_t side : settings.pixelSides)
+        maxSide = std::max(maxSide, int(side));
+    return std::size_t(settings.width) * maxSide * maxSide;
+}
+
+// The primary rays of row y's samples, pixel by pixel, into rays (rowSampleCapacity long);
+// returns their count. Sample (i, j) of pixel (x, y) sits in stratum (i, j) of its N x N grid,
+// at its multi-jittered place (pixel_samples.h): deterministic box-filter supersampling.
+std::size_t rowRays(const Camera& camera, const RenderSettings& settings, int y,
+                    std::vector<Ray>& rays) {
+    std::size_t k = 0;
+    for (int x = 0; x < settings.width; ++x) {
+        const int side = pixelSide(settings, x, y);
+        for (int s = 0; s < side * side; ++s) {
+            const auto [ox, oy] = sampleOffset(s, side);
+            rays[k++] = primaryRay(camera, settings.width, settings.height, x + ox, y + oy);
+        }
+    }
+    return k;
+}
+
+}  // namespace
+
 Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                                    const RenderSettings& settings, std::span<const float> corners,
                                    int channels, std::span<const float> background,
@@ -53,11 +81,8 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
     if (!caster) return withContext(caster.error(), "render");
     const RayCaster& tracer = **caster;
 
-    int maxSide = samplesPerSide(settings.samplesPerPixel);
-    for (const uint8_t side : settings.pixelSides)
-        maxSide = std::max(maxSide, int(side));
     const std::size_t stride = std::size_t(channels);
-    const std::size_t rowSamples = std::size_t(settings.width) * maxSide * maxSide;
+    const std::size_t rowSamples = rowSampleCapacity(settings);
     Image image(settings.width, settings.height, channels);
 
     const auto renderRows = [&](const tbb::blocked_range<int>& rows) {
@@ -65,19 +90,9 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
         std::vector<SurfaceHit> hits(rowSamples);
         std::vector<double> sum(stride), sample(stride);
         for (int y = rows.begin(); y != rows.end(); ++y) {
-            // Sample (i, j) of pixel (x, y) sits in stratum (i, j) of its N x N grid, at its
-            // multi-jittered place (pixel_samples.h): deterministic box-filter supersampling.
-            std::size_t k = 0;
-            for (int x = 0; x < settings.width; ++x) {
-                const int side = pixelSide(settings, x, y);
-                for (int s = 0; s < side * side; ++s) {
-                    const auto [ox, oy] = sampleOffset(s, side);
-                    rays[k++] = primaryRay(camera, settings.width, settings.height, x + ox, y + oy);
-                }
-            }
-            const std::span<const Ray> rowRays(rays.data(), k);
-            const std::span<SurfaceHit> rowHits(hits.data(), k);
-            tracer.closestSurfaceHits(rowRays, rowHits);
+            std::size_t k = rowRays(camera, settings, y, rays);
+            tracer.closestSurfaceHits(std::span<const Ray>(rays.data(), k),
+                                      std::span<SurfaceHit>(hits.data(), k));
             k = 0;
             for (int x = 0; x < settings.width; ++x) {
                 const int side = pixelSide(settings, x, y);
@@ -118,24 +133,14 @@ Expected<std::vector<uint8_t>> patchesInView(const PatchMesh& mesh, const Camera
     auto caster = makeRayCaster(mesh, {.packetMode = PacketMode::Packet16, .robust = true});
     if (!caster) return withContext(caster.error(), "render");
     const RayCaster& tracer = **caster;
-    int maxSide = samplesPerSide(settings.samplesPerPixel);
-    for (const uint8_t side : settings.pixelSides)
-        maxSide = std::max(maxSide, int(side));
-    const std::size_t rowSamples = std::size_t(settings.width) * maxSide * maxSide;
+    const std::size_t rowSamples = rowSampleCapacity(settings);
     // Written by many rows at once: every write is a 1.
     std::vector<std::atomic<uint8_t>> hit(mesh.patchCount());
     forEachImageRow(settings.height, settings.threads, [&](const tbb::blocked_range<int>& rows) {
         std::vector<Ray> rays(rowSamples);
         std::vector<SurfaceHit> hits(rowSamples);
         for (int y = rows.begin(); y != rows.end(); ++y) {
-            std::size_t k = 0;
-            for (int x = 0; x < settings.width; ++x) {
-                const int side = pixelSide(settings, x, y);
-                for (int s = 0; s < side * side; ++s) {
-                    const auto [ox, oy] = sampleOffset(s, side);
-                    rays[k++] = primaryRay(camera, settings.width, settings.height, x + ox, y + oy);
-                }
-            }
+            const std::size_t k = rowRays(camera, settings, y, rays);
             tracer.closestSurfaceHits(std::span<const Ray>(rays.data(), k),
                                       std::span<SurfaceHit>(hits.data(), k));
             for (std::size_t i = 0; i < k; ++i) {

@@ -66,12 +66,17 @@ FloorPoint floorPointAt(const PatchMesh& patches, double x, double y) {
     return {};
 }
 
-TEST(NearFieldGather, ConcaveCornerMatchesThePointToPolygonClosedForm) {
+// A floor z = 0 (+z) and a wall x = 0 (+x), unit squares cut 4 x 4, reflectance 0.5, solved.
+Session cornerSession() {
     Scene scene;
     scene.path = "corner";
-    scene.mesh = verify::perpendicularSquares(4);  // floor z = 0 (+z), wall x = 0 (+x)
+    scene.mesh = verify::perpendicularSquares(4);
     scene.materials = {verify::flatMaterial("flat", 0.5, 0)};
-    Session session = solvedSession(std::move(scene), 0);
+    return solvedSession(std::move(scene), 0);
+}
+
+TEST(NearFieldGather, ConcaveCornerMatchesThePointToPolygonClosedForm) {
+    Session session = cornerSession();
     const PatchMesh& patches = session.patches();
     const std::size_t n = patches.patchCount();
     // Known radiosity: the wall's B = 1 (none of it emitted), the floor's 0.
@@ -126,11 +131,7 @@ TEST(NearFieldGather, ConcaveCornerMatchesThePointToPolygonClosedForm) {
 // Built for some receivers only (an image's patches in view), the field gives those patches
 // exactly what the full build gives them, and the others nothing near.
 TEST(NearFieldGather, ReceiversLeftOutGatherNothingAndTheOthersTheSame) {
-    Scene scene;
-    scene.path = "corner";
-    scene.mesh = verify::perpendicularSquares(4);  // floor z = 0 (+z), wall x = 0 (+x)
-    scene.materials = {verify::flatMaterial("flat", 0.5, 0)};
-    Session session = solvedSession(std::move(scene), 0);
+    Session session = cornerSession();
     const PatchMesh& patches = session.patches();
     const std::size_t n = patches.patchCount();
     std::vector<double> radiosity(n);
