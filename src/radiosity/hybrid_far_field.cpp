@@ -186,10 +186,10 @@ bool same(vec3 x, vec3 y) {
     return x.x == y.x && x.y == y.y && x.z == y.z;
 }
 
-// Appends the cells and points of shared::hybridPairFactor(level, i, j) to the scratch when no
-// cell is near j (the result is then the fixed part: share times the centroid value of each far
-// cell or the threePointRule of each middle one, summed in cell order) and returns true; returns
-// false, appending nothing, when the pair needs the shared kernel (a near cell, L > 2). The
+// Appends the cells and points of shared::hybridPairFactorWith(level, i, j, true) to the scratch
+// when no cell is near j (the result is then the fixed part: share times the centroid value of each
+// far cell or the threePointRule of each middle one, summed in cell order) and returns true;
+// returns false, appending nothing, when the pair needs the shared kernel (a near cell, L > 2). The
 // prologue is that function's (the clip of i to j's front half-space, the roots, whether a root
 // is one cell, the cells and their distance ratios), by the same expressions, with pi and pj
 // (farFieldPatch of i and j) for what depends on a whole patch alone: j's centre and radius, and

@@ -41,8 +41,8 @@ struct FarFieldScratch {
 // What the far-field planner needs of a whole patch, computed once by the shared kernel's own
 // expressions on its corners, so a pair whose clipped piece is the whole patch (most pairs)
 // reads them instead of computing them again, bit-identical: the centroid (patchCentroid), the
-// longest distance from it to a corner (hybridPairFactor's jRadius), and the whole triangle as a
-// root (its rootArea and rootDiameter). Not PatchGeometry::area, which may be the mesh's.
+// longest distance from it to a corner (hybridPairFactorWithin's jRadius), and the whole triangle
+// as a root (its rootArea and rootDiameter). Not PatchGeometry::area, which may be the mesh's.
 struct FarFieldPatch {
     shared::vec3 centroid;
     float radius;

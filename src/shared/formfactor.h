@@ -455,10 +455,6 @@ DAISY_HD float hybridPairFactorWith(int level, DAISY_IN(PatchGeometry) i, DAISY_
     return hybridPairFactorWithin(level, i, j, nearCells, DAISY_FF_REL_TOL);
 }
 
-DAISY_HD float hybridPairFactor(int level, DAISY_IN(PatchGeometry) i, DAISY_IN(PatchGeometry) j) {
-    return hybridPairFactorWith(level, i, j, true);
-}
-
 // Unoccluded F_ij (fraction of the energy leaving i that arrives at j) by `method`
 // (DAISY_METHOD_*), with quadrature level `level` (clamped to 0..DAISY_MAX_QUADRATURE_LEVEL).
 // The caller chooses the direction: i gets the quadrature points (the accurate choice is the
