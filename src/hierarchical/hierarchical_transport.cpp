@@ -1,6 +1,7 @@
 #include "hierarchical/hierarchical_transport.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -159,6 +160,32 @@ std::string HierarchicalTransport::checkStructure() const {
     return "";
 }
 
+template <typename Visit>
+void HierarchicalTransport::forSubtrees(const Visit& visit, bool childrenFirst) const {
+    if (tree_.nodes.empty()) return;
+    // A subtree of at most this many patches is one task, its 2 count - 1 nodes in one loop.
+    constexpr uint32_t kSerialPatches = 4096;
+    const auto walk = [&](const auto& self, uint32_t k) -> void {
+        const HierarchyNode& node = tree_.nodes[k];
+        if (node.count <= kSerialPatches) {
+            const std::size_t end = k + 2 * std::size_t(node.count) - 1;
+            if (childrenFirst) {
+                for (std::size_t i = end; i-- > k;)
+                    visit(i);
+            } else {
+                for (std::size_t i = k; i < end; ++i)
+                    visit(i);
+            }
+            return;
+        }
+        if (!childrenFirst) visit(k);
+        tbb::parallel_invoke([&] { self(self, node.children[0]); },
+                             [&] { self(self, node.children[1]); });
+        if (childrenFirst) visit(k);
+    };
+    walk(walk, 0);
+}
+
 void HierarchicalTransport::farGather(std::span<const double> radiosity,
                                       std::size_t wavelengthCount, std::span<double> gathered,
                                       std::span<const uint8_t> sourceSlots) const {
@@ -177,7 +204,7 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
     push.assign(size, 0.0);
     const auto at = [m](auto& values, std::size_t slot) { return values.data() + slot * m; };
     // Pull: children before parents. A planar node holds Q = sum A_j phi_j B_j (its P is n Q).
-    for (std::size_t k = nodes; k-- > 0;) {
+    const auto pullNode = [&](std::size_t k) {
         const HierarchyNode& node = tree_.nodes[k];
         float* p = at(pull, slot_[k]);
         if (node.isLeaf()) {
@@ -186,14 +213,14 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
             const double* b = radiosity.data() + patch * m;
             for (std::size_t c = 0; c < m; ++c)
                 p[c] = float(a * b[c]);
-            continue;
+            return;
         }
         const float* p0 = at(pull, slot_[node.children[0]]);
         const float* p1 = at(pull, slot_[node.children[1]]);
         if (isPlanar(k)) {
             for (std::size_t c = 0; c < m; ++c)
                 p[c] = p0[c] + p1[c];
-            continue;
+            return;
         }
         std::fill(p, p + 3 * m, 0.0f);
         for (const uint32_t child : node.children) {
@@ -207,13 +234,16 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
             for (std::size_t c = 0; c < m; ++c)
                 p[c] += n.x * q[c], p[m + c] += n.y * q[c], p[2 * m + c] += n.z * q[c];
         }
-    }
+    };
+    forSubtrees(pullNode, true);
     // Links: each receiving node sums its half-links, s = -K (u . P_S) per wavelength; a planar
     // receiver keeps n_R . J = sum s (u . n_R), another J = sum s u. Between two planar nodes
     // that is one weight times Q_S (FarHalfLinks::planarWeights), summed by the solver's
     // vectorised kernel in the pairs' fixed order (one by one, skipping, with sourceSlots);
     // the others apply their vector (FarHalfLinks::OtherLink).
     const AccumulateFn<float> accumulate = accumulateFor<float>(m);
+    // The vector-form links' sources are up to 3 m values: fewer ahead than the kernels'.
+    constexpr uint64_t kOtherPrefetchAhead = kPrefetchAhead / 2;
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, nodes, 256),
         [&](const tbb::blocked_range<std::size_t>& range) {
@@ -233,6 +263,10 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
                 }
                 const bool planarReceiver = isPlanar(k);
                 for (uint64_t o = far_.otherOffsets[k]; o < far_.otherOffsets[k + 1]; ++o) {
+                    if (o + kOtherPrefetchAhead < far_.otherOffsets[k + 1]) {
+                        const FarHalfLinks::OtherLink& ahead = far_.others[o + kOtherPrefetchAhead];
+                        prefetchRow(at(pull, ahead.source()), ahead.planarSource() ? m : 3 * m);
+                    }
                     const FarHalfLinks::OtherLink& link = far_.others[o];
                     if (!sourceSlots.empty() && !sourceSlots[link.source()]) {
                         continue;
@@ -258,7 +292,7 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
         });
     // Push: parents before children, a planar child taking n . J of a vector parent; each
     // patch's leaf holds its irradiance.
-    for (std::size_t k = 0; k < nodes; ++k) {
+    const auto pushNode = [&](std::size_t k) {
         const HierarchyNode& node = tree_.nodes[k];
         const double* j = at(push, slot_[k]);
         if (node.isLeaf()) {
@@ -267,7 +301,7 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
             double* g = gathered.data() + patch * m;
             for (std::size_t c = 0; c < m; ++c)
                 g[c] = scale * j[c];
-            continue;
+            return;
         }
         for (const uint32_t child : node.children) {
             double* d = at(push, slot_[child]);
@@ -280,7 +314,8 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
             for (std::size_t c = 0; c < m; ++c)
                 d[c] += n.x * j[c] + n.y * j[m + c] + n.z * j[2 * m + c];
         }
-    }
+    };
+    forSubtrees(pushNode, false);
 }
 
 void HierarchicalTransport::gather(std::span<const double> radiosity, std::size_t wavelengthCount,

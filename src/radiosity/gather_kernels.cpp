@@ -64,6 +64,9 @@ __attribute__((target("avx512f"))) void accumulateAvx512(const uint32_t* columns
     uint64_t p = begin;
     for (; p + 4 <= end; p += 4) {
         for (std::size_t u = 0; u < 4; ++u) {
+            if (p + u + kPrefetchAhead < end) {
+                prefetchRow(radiosity + std::size_t(columns[p + u + kPrefetchAhead]) * kM, kM);
+            }
             const __m512d f = _mm512_set1_pd(values[p + u]);
             const T* b = radiosity + std::size_t(columns[p + u]) * kM;
             for (std::size_t v = 0; v < kV; ++v)
@@ -103,6 +106,9 @@ __attribute__((target("avx2,fma"))) void accumulateAvx2(const uint32_t* columns,
     uint64_t p = begin;
     for (; p + 4 <= end; p += 4) {
         for (std::size_t u = 0; u < 4; ++u) {
+            if (p + u + kPrefetchAhead < end) {
+                prefetchRow(radiosity + std::size_t(columns[p + u + kPrefetchAhead]) * kM, kM);
+            }
             const __m256d f = _mm256_set1_pd(values[p + u]);
             const T* b = radiosity + std::size_t(columns[p + u]) * kM;
             for (std::size_t v = 0; v < kV; ++v)
@@ -139,6 +145,9 @@ __attribute__((target("avx512f"))) void accumulateAvx512Tail(const uint32_t* col
     for (std::size_t r = 0; r < kR; ++r)
         tail[r] = acc[8 * kV + r];
     for (uint64_t p = begin; p < end; ++p) {
+        if (p + kPrefetchAhead < end) {
+            prefetchRow(radiosity + std::size_t(columns[p + kPrefetchAhead]) * kM, kM);
+        }
         const double fd = values[p];
         const __m512d f = _mm512_set1_pd(fd);
         const T* b = radiosity + std::size_t(columns[p]) * kM;
@@ -167,6 +176,9 @@ __attribute__((target("avx2,fma"))) void accumulateAvx2Tail(const uint32_t* colu
     for (std::size_t r = 0; r < kR; ++r)
         tail[r] = acc[4 * kV + r];
     for (uint64_t p = begin; p < end; ++p) {
+        if (p + kPrefetchAhead < end) {
+            prefetchRow(radiosity + std::size_t(columns[p + kPrefetchAhead]) * kM, kM);
+        }
         const double fd = values[p];
         const __m256d f = _mm256_set1_pd(fd);
         const T* b = radiosity + std::size_t(columns[p]) * kM;
@@ -224,6 +236,9 @@ __attribute__((target("avx512f"))) void accumulateAvx512Float(const uint32_t* co
                 sum[u][v] = _mm512_setzero_ps();
         for (; p + 4 <= runEnd; p += 4) {
             for (std::size_t u = 0; u < 4; ++u) {
+                if (p + u + kPrefetchAhead < end) {
+                    prefetchRow(radiosity + std::size_t(columns[p + u + kPrefetchAhead]) * kM, kM);
+                }
                 const __m512 f = _mm512_set1_ps(values[p + u]);
                 const float* b = radiosity + std::size_t(columns[p + u]) * kM;
                 for (std::size_t v = 0; v < kV; ++v)
@@ -274,6 +289,9 @@ __attribute__((target("avx2,fma"))) void accumulateAvx2Float(const uint32_t* col
                 sum[u][v] = _mm256_setzero_ps();
         for (; p + 4 <= runEnd; p += 4) {
             for (std::size_t u = 0; u < 4; ++u) {
+                if (p + u + kPrefetchAhead < end) {
+                    prefetchRow(radiosity + std::size_t(columns[p + u + kPrefetchAhead]) * kM, kM);
+                }
                 const __m256 f = _mm256_set1_ps(values[p + u]);
                 const float* b = radiosity + std::size_t(columns[p + u]) * kM;
                 for (std::size_t v = 0; v < kV; ++v)
