@@ -82,6 +82,7 @@ Expected<PatchExposure> patchExposure(const PatchMesh& patches) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const auto& range) {
         std::array<Ray, kPatchQuadraturePoints * kProbeRays> rays{};
         std::array<SurfaceHit, kPatchQuadraturePoints * kProbeRays> hits{};
+        std::array<int, kPatchQuadraturePoints> pending{};
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
             const auto& c = patches.patches[p];
             const shared::PatchGeometry t = shared::makePatchGeometry(
@@ -93,35 +94,57 @@ Expected<PatchExposure> patchExposure(const PatchMesh& patches) {
             const float h = std::sqrt(0.5f);  // cos and sin of 45 degrees
             const std::array<shared::vec3, kProbeRays> directions = {
                 n0, n0 * h + t1 * h, n0 * h - t1 * h, n0 * h + t2 * h, n0 * h - t2 * h};
-            for (int q = 0; q < kPatchQuadraturePoints; ++q) {
-                const shared::vec3 x = patchQuadraturePoint(t, q);
-                for (int r = 0; r < kProbeRays; ++r) {
-                    Ray& ray = rays[std::size_t(q * kProbeRays + r)];
-                    const shared::vec3 d = directions[std::size_t(r)];
-                    ray = {{x.x, x.y, x.z}, {d.x, d.y, d.z}};
-                }
-            }
+            std::array<shared::vec3, kPatchQuadraturePoints> points;
+            for (int q = 0; q < kPatchQuadraturePoints; ++q)
+                points[std::size_t(q)] = patchQuadraturePoint(t, q);
             // Past the patch's own plane by a millionth of its size (its own triangle and its
             // coplanar neighbours are never hit).
             const float margin = 1e-6f * std::sqrt(std::max(t.area, 1e-30f)) +
                 1e-6f * std::max({std::abs(t.a.x), std::abs(t.a.y), std::abs(t.a.z)});
-            tracer.closestSurfaceHits(rays, hits, margin);
-            uint16_t mask = 0;
-            for (int q = 0; q < kPatchQuadraturePoints; ++q) {
-                bool buried = true;
-                for (int r = 0; r < kProbeRays && buried; ++r) {
-                    const std::size_t k = std::size_t(q * kProbeRays + r);
-                    const uint32_t hit = hits[k].patch;
-                    // Open (a miss), a front face, or a double-sided surface: exposed.
-                    if (hit == kNoPatch || patches.backPatch[hit] != kNoBackPatch) {
-                        buried = false;
-                        break;
-                    }
-                    const Vec3d& m = patches.normals[hit];
-                    const shared::vec3 d = directions[std::size_t(r)];
-                    buried = m.x * d.x + m.y * d.y + m.z * d.z > 0;
+            // Whether the probe ray hit the back of a single-sided surface (else the point is
+            // open there: a miss, a front face or a double-sided surface).
+            const auto backOnly = [&](const SurfaceHit& hit, const shared::vec3& d) {
+                if (hit.patch == kNoPatch || patches.backPatch[hit.patch] != kNoBackPatch) {
+                    return false;
                 }
-                if (!buried) mask = uint16_t(mask | (1u << q));
+                const Vec3d& m = patches.normals[hit.patch];
+                return m.x * d.x + m.y * d.y + m.z * d.z > 0;
+            };
+            // A point is buried when all its probes meet back faces. The one along the normal
+            // settles most points (open): the other four go only from those it does not.
+            for (int q = 0; q < kPatchQuadraturePoints; ++q) {
+                const shared::vec3 x = points[std::size_t(q)];
+                rays[std::size_t(q)] = {{x.x, x.y, x.z}, {n0.x, n0.y, n0.z}};
+            }
+            tracer.closestSurfaceHits({rays.data(), kPatchQuadraturePoints},
+                                      {hits.data(), kPatchQuadraturePoints}, margin);
+            uint16_t mask = 0;
+            int count = 0;
+            for (int q = 0; q < kPatchQuadraturePoints; ++q) {
+                if (backOnly(hits[std::size_t(q)], n0)) {
+                    pending[std::size_t(count++)] = q;
+                } else {
+                    mask = uint16_t(mask | (1u << q));
+                }
+            }
+            if (count > 0) {
+                std::size_t k = 0;
+                for (int j = 0; j < count; ++j) {
+                    const shared::vec3 x = points[std::size_t(pending[std::size_t(j)])];
+                    for (int r = 1; r < kProbeRays; ++r) {
+                        const shared::vec3 d = directions[std::size_t(r)];
+                        rays[k++] = {{x.x, x.y, x.z}, {d.x, d.y, d.z}};
+                    }
+                }
+                tracer.closestSurfaceHits({rays.data(), k}, {hits.data(), k}, margin);
+                for (int j = 0; j < count; ++j) {
+                    bool buried = true;
+                    for (int r = 1; r < kProbeRays && buried; ++r) {
+                        buried = backOnly(hits[std::size_t(j * (kProbeRays - 1) + r - 1)],
+                                          directions[std::size_t(r)]);
+                    }
+                    if (!buried) mask = uint16_t(mask | (1u << pending[std::size_t(j)]));
+                }
             }
             exposure.exposedPoints[p] = mask;
             exposure.fraction[p] = float(std::popcount(unsigned(mask))) / kPatchQuadraturePoints;

@@ -35,8 +35,9 @@ struct PatchExposure {
     std::vector<uint16_t> exposedPoints;  // per patch: bit q set when point q is exposed
 };
 
-// Probes every patch's 16 points (80 rays a patch, parallel). Fails (no crash) when the ray
-// caster cannot build the scene.
+// Probes every patch's 16 points, in parallel: 16 rays a patch along its normal, and the four
+// tilted ones only from the points those leave unsettled. Fails (no crash) when the ray caster
+// cannot build the scene.
 Expected<PatchExposure> patchExposure(const PatchMesh& patches);
 
 // Per patch, its area times phi: the area weights of the smooth image's vertex means
