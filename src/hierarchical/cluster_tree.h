@@ -25,6 +25,8 @@
 // Nodes are stored in pre-order: a node's children have larger indices than the node, so a
 // pass from the last node to the first visits children before parents (pull) and the reverse
 // pass parents before children (push). The leaves of node k are order[first .. first + count).
+#include <tbb/parallel_invoke.h>
+
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -73,6 +75,34 @@ struct ClusterTree {
 
     std::size_t bytes() const;
 };
+
+// Calls visit(k) once for every node k of `tree`, children before parents (childrenFirst) or
+// parents before children: disjoint subtrees in parallel (in pre-order a subtree is a run of
+// nodes, 2 count - 1 of them), each of at most serialPatches patches in one loop on one thread.
+template <typename Visit>
+void visitSubtrees(const ClusterTree& tree, const Visit& visit, bool childrenFirst,
+                   uint32_t serialPatches = 4096) {
+    if (tree.nodes.empty()) return;
+    const auto walk = [&](const auto& self, uint32_t k) -> void {
+        const HierarchyNode& node = tree.nodes[k];
+        if (node.count <= serialPatches) {
+            const std::size_t end = k + 2 * std::size_t(node.count) - 1;
+            if (childrenFirst) {
+                for (std::size_t i = end; i-- > k;)
+                    visit(i);
+            } else {
+                for (std::size_t i = k; i < end; ++i)
+                    visit(i);
+            }
+            return;
+        }
+        if (!childrenFirst) visit(k);
+        tbb::parallel_invoke([&] { self(self, node.children[0]); },
+                             [&] { self(self, node.children[1]); });
+        if (childrenFirst) visit(k);
+    };
+    walk(walk, 0);
+}
 
 // Builds the tree over every patch of `mesh` (2 n - 1 nodes for n patches; empty for none),
 // in parallel; deterministic (the same tree for any thread count). `sheltered`: per patch, or

@@ -1,7 +1,6 @@
 #include "hierarchical/hierarchical_transport.h"
 
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_invoke.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
@@ -160,32 +159,6 @@ std::string HierarchicalTransport::checkStructure() const {
     return "";
 }
 
-template <typename Visit>
-void HierarchicalTransport::forSubtrees(const Visit& visit, bool childrenFirst) const {
-    if (tree_.nodes.empty()) return;
-    // A subtree of at most this many patches is one task, its 2 count - 1 nodes in one loop.
-    constexpr uint32_t kSerialPatches = 4096;
-    const auto walk = [&](const auto& self, uint32_t k) -> void {
-        const HierarchyNode& node = tree_.nodes[k];
-        if (node.count <= kSerialPatches) {
-            const std::size_t end = k + 2 * std::size_t(node.count) - 1;
-            if (childrenFirst) {
-                for (std::size_t i = end; i-- > k;)
-                    visit(i);
-            } else {
-                for (std::size_t i = k; i < end; ++i)
-                    visit(i);
-            }
-            return;
-        }
-        if (!childrenFirst) visit(k);
-        tbb::parallel_invoke([&] { self(self, node.children[0]); },
-                             [&] { self(self, node.children[1]); });
-        if (childrenFirst) visit(k);
-    };
-    walk(walk, 0);
-}
-
 void HierarchicalTransport::farGather(std::span<const double> radiosity,
                                       std::size_t wavelengthCount, std::span<double> gathered,
                                       std::span<const uint8_t> sourceSlots) const {
@@ -235,7 +208,7 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
                 p[c] += n.x * q[c], p[m + c] += n.y * q[c], p[2 * m + c] += n.z * q[c];
         }
     };
-    forSubtrees(pullNode, true);
+    visitSubtrees(tree_, pullNode, true);
     // Links: each receiving node sums its half-links, s = -K (u . P_S) per wavelength; a planar
     // receiver keeps n_R . J = sum s (u . n_R), another J = sum s u. Between two planar nodes
     // that is one weight times Q_S (FarHalfLinks::planarWeights), summed by the solver's
@@ -315,7 +288,7 @@ void HierarchicalTransport::farGather(std::span<const double> radiosity,
                 d[c] += n.x * j[c] + n.y * j[m + c] + n.z * j[2 * m + c];
         }
     };
-    forSubtrees(pushNode, false);
+    visitSubtrees(tree_, pushNode, false);
 }
 
 void HierarchicalTransport::gather(std::span<const double> radiosity, std::size_t wavelengthCount,

@@ -116,11 +116,6 @@ public:
 private:
     // The per-node arrays the gather reads (a valid tree).
     void prepareNodes();
-    // Calls visit(k) for every node k, children before parents (childrenFirst) or parents
-    // before children, disjoint subtrees in parallel (the tree is in pre-order, so a subtree is
-    // a run of nodes).
-    template <typename Visit>
-    void forSubtrees(const Visit& visit, bool childrenFirst) const;
     // checkStructure's part on the tree and the per-patch arrays.
     std::string checkTree() const;
     // Per node: its normal when it is planar (every leaf is), else zero.

@@ -4,11 +4,14 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
+#include <vector>
 
 #include "geometry/patch_mesh.h"
 #include "hierarchical/cluster_tree.h"
 #include "radiosity/solver_test_util.h"
+#include "verify/scenes.h"
 
 namespace daisy {
 namespace {
@@ -230,6 +233,33 @@ TEST(LinkOracle, TheClusterTreeBoundsEveryNodesNormalsByTheirBox) {
         }
         EXPECT_LT(std::abs(node.normalLo.z), 1e-12);  // no normal along the barrel
         EXPECT_LT(std::abs(node.normalHi.z), 1e-12);
+    }
+}
+
+// The far gather's tree passes: every node visited once, after both children (pull) or before
+// them (push), with subtrees of up to 3 patches run serially and the rest split in parallel.
+TEST(LinkOracle, SubtreeVisitsReachEveryNodeOnceInTreeOrder) {
+    const PatchMesh patches = verify::patchesOf(verify::unitCubeRoom(16));
+    const ClusterTree tree = buildClusterTree(patches);
+    ASSERT_EQ(tree.nodes.size(), 2 * patches.patchCount() - 1);
+    for (const bool childrenFirst : {true, false}) {
+        std::atomic<uint32_t> clock{0};
+        std::vector<std::atomic<uint32_t>> visited(tree.nodes.size());
+        std::vector<uint32_t> when(tree.nodes.size(), 0);
+        visitSubtrees(
+            tree,
+            [&](std::size_t k) {
+                when[k] = clock++;
+                ++visited[k];
+            },
+            childrenFirst, 3);
+        for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
+            ASSERT_EQ(visited[k].load(), 1u) << "node " << k;
+            for (const uint32_t child : tree.nodes[k].children) {
+                if (child == kNoNode) continue;
+                EXPECT_EQ(when[child] < when[k], childrenFirst) << "node " << k;
+            }
+        }
     }
 }
 
