@@ -89,6 +89,9 @@ int main(int argc, char** argv) {
         try {
             daisy::Expected<int> status = command.run();
             if (!status) {
+                // A stage that stopped for SIGINT / SIGTERM returns its own "interrupted" error,
+                // and may do so before the watchdog has printed its line: the one line only.
+                if (daisy::interruptSignal() != 0) daisy::exitInterrupted();
                 daisy::logError(status.error().message);
                 return 2;
             }
