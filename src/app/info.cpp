@@ -133,9 +133,10 @@ int runInfo(const CommonOptions& options) {
         estimateHierarchy(patches, session->system().wavelengthCount);
     printRow("hierarchical",
              concat(formatCount(patches.patchCount() > 0 ? 2 * patches.patchCount() - 1 : 0),
-                    " nodes, ~", formatCount(hierarchy.nearEntries), " near factors and ~",
+                    " nodes, up to ~", formatCount(hierarchy.nearEntries), " near factors and ~",
                     formatCount(hierarchy.farLinks), " far links, ",
                     formatBytes(static_cast<double>(hierarchy.bytes)), ", ",
+                    formatBytes(static_cast<double>(hierarchy.leastPeakBytes)), " to ",
                     formatBytes(static_cast<double>(hierarchy.peakBytes)),
                     " while building (estimate)"));
     printRow("transport", transportLine(options, session->settings(), matrix.matrixBytes));
@@ -153,11 +154,17 @@ int runInfo(const CommonOptions& options) {
                      ", K ", options.raysPerPair, ", seed ", options.seed, " not in ",
                      cacheDirectory->string(), ")"));
     if (session->settings().transport == TransportKind::Hierarchical &&
-        hierarchy.peakBytes > options.maxMemoryBytes) {
+        hierarchy.leastPeakBytes > options.maxMemoryBytes) {
         printRow(
             "",
             concat("over --max-memory ", formatBytes(static_cast<double>(options.maxMemoryBytes)),
                    ": the hierarchical build would be refused; ", session->memoryAdvice()));
+    } else if (session->settings().transport == TransportKind::Hierarchical &&
+               hierarchy.peakBytes > options.maxMemoryBytes) {
+        printRow("",
+                 concat("the build may need more than --max-memory ",
+                        formatBytes(static_cast<double>(options.maxMemoryBytes)),
+                        " (links a patch differ by scene): it stops as soon as its links would"));
     } else if (session->settings().transport == TransportKind::Matrix &&
                matrix.matrixBytes > options.maxMemoryBytes) {
         printRow(

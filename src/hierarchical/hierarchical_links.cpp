@@ -13,6 +13,7 @@
 
 #include "core/cancel.h"
 #include "core/progress.h"
+#include "core/strings.h"
 #include "core/timer.h"
 #include "geometry/shared_vec.h"
 #include "shared/formfactor.h"
@@ -35,6 +36,10 @@ struct FarRecord {
     uint32_t receiver, source;
     float coupling;
 };
+static_assert(sizeof(FarRecord) == kFarRecordBytes &&
+              sizeof(shared::PairIndex) == kNearRecordBytes);
+// Each thread adds its records to the build's count in steps of this many bytes.
+constexpr uint64_t kRecordCountStep = 64 * 1024;
 // Centroid cosine products at or under this take the segments' estimate (Refiner::far).
 constexpr double kCosineFloor = 1e-6;
 
@@ -75,6 +80,11 @@ struct Local {
     LinkStats stats;
     SegmentArrays segments;
     std::vector<uint8_t> blocked;
+    uint64_t countedBytes = 0;  // of far and near, what the build's count has seen
+
+    uint64_t recordBytes() const {
+        return far.size() * kFarRecordBytes + near.size() * kNearRecordBytes;
+    }
 };
 
 class Refiner {
@@ -468,10 +478,13 @@ std::vector<uint64_t> gatherSlots(const std::vector<Vec3d>& orientations) {
     return slots;
 }
 
-Expected<HierarchicalLinks> buildHierarchicalLinks(
-    const PatchMesh& mesh, const ClusterTree& tree, const PatchExposure& exposure,
-    const LinkImportance& importance, const HierarchySettings& hierarchy,
-    const FormFactorSettings& settings, PairEvaluator& evaluator, const RayCaster& rays) {
+Expected<HierarchicalLinks> buildHierarchicalLinks(const PatchMesh& mesh, const ClusterTree& tree,
+                                                   const PatchExposure& exposure,
+                                                   const LinkImportance& importance,
+                                                   const HierarchySettings& hierarchy,
+                                                   const FormFactorSettings& settings,
+                                                   PairEvaluator& evaluator, const RayCaster& rays,
+                                                   uint64_t recordLimitBytes) {
     HierarchicalLinks links;
     const auto n = static_cast<uint32_t>(mesh.patchCount());
     if (n == 0) {
@@ -493,7 +506,16 @@ Expected<HierarchicalLinks> buildHierarchicalLinks(
             refiner.decide(pair, first, next);
         frontier.swap(next);
     }
-    std::atomic<bool> cancelled{false};
+    std::atomic<bool> cancelled{false}, overLimit{first.recordBytes() > recordLimitBytes};
+    // The records made so far by all threads, each adding its own in kRecordCountStep steps.
+    std::atomic<uint64_t> recorded{first.recordBytes()};
+    first.countedBytes = recorded;
+    const auto count = [&](Local& local) {
+        const uint64_t added = local.recordBytes() - local.countedBytes;
+        if (added < kRecordCountStep) return;
+        if (recorded.fetch_add(added) + added > recordLimitBytes) overLimit = true;
+        local.countedBytes += added;
+    };
     {
         // The frontier's pairs as the unit of work: their subtrees differ in size, so the
         // fraction is a rough one.
@@ -509,25 +531,33 @@ Expected<HierarchicalLinks> buildHierarchicalLinks(
                                       return;
                                   }
                                   stack.assign(1, frontier[k]);
-                                  while (!stack.empty()) {
+                                  while (!stack.empty() && !overLimit) {
                                       const Pair pair = stack.back();
                                       stack.pop_back();
                                       refiner.decide(pair, local, stack);
+                                      count(local);
                                   }
+                                  if (overLimit) return;
                               }
                               progress.advance(range.size());
                           });
     }
     if (cancelled) return Error{kInterruptedMessage};
-
-    // Each thread's records are merged and freed one thread at a time, and the far records are
-    // freed once grouped, so that no more than one extra copy of either is ever held (the peak
-    // that estimateHierarchy charges).
-    std::size_t farCount = 0, nearCount = 0;
+    // The threads' last steps, under kRecordCountStep, were not counted: the limit holds exactly.
+    uint64_t farCount = 0, nearCount = 0;
     for (const Local& local : locals) {
         farCount += local.far.size();
         nearCount += local.near.size();
     }
+    if (overLimit || farCount * kFarRecordBytes + nearCount * kNearRecordBytes > recordLimitBytes) {
+        return Error{concat(kLinkRecordsOverLimit, formatBytes(double(recordLimitBytes)), " at ",
+                            formatCount(farCount), " far links and ", formatCount(nearCount),
+                            " near pairs")};
+    }
+
+    // Each thread's records are merged and freed one thread at a time, and the far records are
+    // freed once grouped, so that no more than one extra copy of either is ever held (the peak
+    // that estimateHierarchy charges).
     std::vector<FarRecord> far;
     std::vector<shared::PairIndex> near;
     far.reserve(farCount);

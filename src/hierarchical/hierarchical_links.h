@@ -41,6 +41,7 @@
 // - otherwise the side with the larger sphere is split (a leaf never is); two patches become a
 //   near link.
 #include <cstdint>
+#include <string_view>
 #include <vector>
 
 #include "core/expected.h"
@@ -141,15 +142,25 @@ struct HierarchicalLinks {
     LinkStats stats;
 };
 
+// What the refinement records per link before the links take their final form: a far link's
+// nodes and coupling, a near link's patch pair.
+inline constexpr uint64_t kFarRecordBytes = 12;
+inline constexpr uint64_t kNearRecordBytes = 8;
+// How the error of a build stopped by its record limit begins.
+inline constexpr std::string_view kLinkRecordsOverLimit = "the links' records passed ";
+
 // Refines the root's pair with itself; near pairs evaluated by `evaluator` with
 // settings.raysPerPair segments, far links' visibility by `rays` between the patches' exposed
 // parts (`exposure`, of the same patches). Deterministic (any thread count). Errors: the
-// evaluator's, or the cancel token's kInterruptedMessage.
+// evaluator's, the cancel token's kInterruptedMessage, or, once the records (kFarRecordBytes a
+// far link, kNearRecordBytes a near pair) pass `recordLimitBytes`, kLinkRecordsOverLimit with
+// the limit and the counts reached: the refinement stops there, before the records are copied.
 Expected<HierarchicalLinks> buildHierarchicalLinks(const PatchMesh& mesh, const ClusterTree& tree,
                                                    const PatchExposure& exposure,
                                                    const LinkImportance& importance,
                                                    const HierarchySettings& hierarchy,
                                                    const FormFactorSettings& settings,
-                                                   PairEvaluator& evaluator, const RayCaster& rays);
+                                                   PairEvaluator& evaluator, const RayCaster& rays,
+                                                   uint64_t recordLimitBytes = UINT64_MAX);
 
 }  // namespace daisy

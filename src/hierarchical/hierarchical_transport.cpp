@@ -504,6 +504,21 @@ PatchSurvey surveyPatches(const PatchMesh& mesh, const RadiositySystem& system,
     return survey;
 }
 
+// The tree's arrays, the transport's per-patch ones and a gather's work arrays
+// (estimateHierarchy).
+uint64_t treeBytes(uint64_t n, std::size_t wavelengthCount) {
+    const uint64_t nodes = n > 0 ? 2 * n - 1 : 0;
+    return nodes * (sizeof(HierarchyNode) + 8 + sizeof(Vec3d) + 2 * 8) +
+        n * (sizeof(Vec3d) + 2 * sizeof(double) + 8) + nodes * 3 * wavelengthCount * (4 + 8);
+}
+
+// The build's peak: the tree's arrays beside the link records three times over (each thread's
+// grown vector holds up to twice its records, then their merged copy; the records are merged
+// and freed one thread at a time, and the far records freed once grouped).
+uint64_t buildPeakBytes(uint64_t tree, double farLinks, double nearPairs) {
+    return tree + uint64_t(3 * (farLinks * kFarRecordBytes + nearPairs * kNearRecordBytes));
+}
+
 }  // namespace
 
 HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengthCount) {
@@ -513,37 +528,38 @@ HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengt
     // their normals' box); near 161, 230, 137, 59 and 60 and far 172, 238, 248, 210 and 376 on
     // the Cornell box, the coloured lights, the default scene, the double-sided and the
     // single-sided Blender-style box. Near factors a patch fall as about n^-0.5 over all of
-    // those (finer patches are linked far sooner); the estimate takes 1.2 times the coloured
-    // lights' on that law (at most every patch), and 1.2 times the largest far count, 450 a
-    // patch.
+    // those (finer patches are linked far sooner): at most 1.2 times the coloured lights' on
+    // that law (and every patch), at least 0.4 times it (the interiors' are 0.55-0.67 times);
+    // far links at most 1.2 times the largest count, 450 a patch, at least 30.
     const uint64_t n = mesh.patchCount();
-    const double nearPerPatch =
-        std::min(double(n), 1.2 * 230 * std::sqrt(3854.0 / std::max<double>(1, double(n))));
-    const double farPerPatch = 450.0;
+    const double law = 230 * std::sqrt(3854.0 / std::max<double>(1, double(n)));
+    const double most = std::min(double(n), 1.2 * law), least = std::min(double(n), 0.4 * law);
     HierarchyEstimate estimate;
-    estimate.nearEntries = static_cast<uint64_t>(double(n) * nearPerPatch);
-    estimate.farLinks = static_cast<uint64_t>(double(n) * farPerPatch);
-    const uint64_t nodes = n > 0 ? 2 * n - 1 : 0;
-    const uint64_t nodeBytes = nodes * (sizeof(HierarchyNode) + 8 + sizeof(Vec3d) + 2 * 8) +
-        n * (sizeof(Vec3d) + 2 * sizeof(double) + 8) + nodes * 3 * wavelengthCount * (4 + 8);
+    estimate.nearEntries = static_cast<uint64_t>(double(n) * most);
+    estimate.farLinks = static_cast<uint64_t>(double(n) * 450.0);
+    const uint64_t tree = treeBytes(n, wavelengthCount);
     // A far half-link (FarHalfLinks) takes 8 bytes between two planar nodes and 16 otherwise,
     // about a fifth of them on the interiors: 12 bytes.
-    estimate.bytes =
-        sparseMatrixBytes(n, estimate.nearEntries) + 2 * estimate.farLinks * 12 + nodeBytes;
-    // While the links are built, before the transport's own arrays exist, each thread's records
-    // (a grown vector holds up to twice them) sit beside their merged copy: 12 bytes a far
-    // record and 8 a near pair (about one a near factor), three times over. Measured peaks of whole
-    // renders: 0.52, 0.91, 1.65 and 3.14 GiB at 60,024, 120,000, 240,016 and 500,004 patches of
-    // the interior generator, where this gives 1.16, 2.27, 4.46 and 9.17 GiB: conservative
-    // (--max-memory refuses no build that would fit), by 2.2-2.9 times there.
-    estimate.peakBytes = std::max(
-        estimate.bytes, nodeBytes + estimate.farLinks * 3 * 12 + estimate.nearEntries * 3 * 8);
+    estimate.bytes = sparseMatrixBytes(n, estimate.nearEntries) + 2 * estimate.farLinks * 12 + tree;
+    // About one near pair a near factor. Measured peaks of whole renders: 0.52, 0.91, 1.65 and
+    // 3.14 GiB at 60,024, 120,000, 240,016 and 500,004 patches of the interior generator, where
+    // the highest rates give 1.16, 2.27, 4.46 and 9.17 GiB and the lowest 0.25, 0.49, 0.96 and
+    // 1.95 GiB.
+    estimate.peakBytes =
+        std::max(estimate.bytes,
+                 buildPeakBytes(tree, double(estimate.farLinks), double(estimate.nearEntries)));
+    estimate.leastPeakBytes = buildPeakBytes(tree, double(n) * 30.0, double(n) * least);
     return estimate;
+}
+
+uint64_t linkRecordLimit(const PatchMesh& mesh, std::size_t wavelengthCount, uint64_t maxBytes) {
+    const uint64_t tree = treeBytes(mesh.patchCount(), wavelengthCount);
+    return maxBytes <= tree ? 0 : (maxBytes - tree) / 3;
 }
 
 Expected<std::shared_ptr<const HierarchicalTransport>> buildHierarchicalTransport(
     const PatchMesh& mesh, const PatchExposure& exposure, const RadiositySystem& system,
-    const HierarchySettings& hierarchy, const FormFactorSettings& settings) {
+    const HierarchySettings& hierarchy, const FormFactorSettings& settings, uint64_t maxBytes) {
     if (settings.method == FormFactorMethod::Stochastic) {
         return Error{
             "--transport hierarchical evaluates its links with the kernels of riemann, "
@@ -562,9 +578,10 @@ Expected<std::shared_ptr<const HierarchicalTransport>> buildHierarchicalTranspor
         ClusterTree tree = buildClusterTree(mesh, survey.sheltered);
         const std::unique_ptr<PairEvaluator> evaluator =
             makeRayPairEvaluator(mesh, settings, **caster, hierarchy.nearTolerance);
-        auto links = buildHierarchicalLinks(mesh, tree, exposure,
-                                            linkImportance(system, survey.lit, survey.dark),
-                                            hierarchy, settings, *evaluator, **caster);
+        auto links = buildHierarchicalLinks(
+            mesh, tree, exposure, linkImportance(system, survey.lit, survey.dark), hierarchy,
+            settings, *evaluator, **caster,
+            linkRecordLimit(mesh, system.wavelengthCount, maxBytes));
         if (!links) return links.error();
         return std::make_shared<const HierarchicalTransport>(
             mesh, std::move(tree), std::move(*links), exposure.fraction, survey.enclosed);

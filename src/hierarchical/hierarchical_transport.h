@@ -143,22 +143,34 @@ private:
 // What the transport will hold before it is built, for --max-memory and `daisy info`: the tree,
 // links at the rates measured on the generator's interiors, the Blender-style box and the
 // default scene (growing slowly with the patches), and a gather's work arrays (the pull and
-// push values, 3 m floats and 3 m doubles a node); and what building it holds at its peak, which
-// --max-memory is checked against.
+// push values, 3 m floats and 3 m doubles a node); and what building it holds at its peak.
+// Scenes differ by four times in links a patch, so the estimate is a range: at the highest rates
+// measured (what the build is expected to need at most) and at the lowest (what it needs at
+// least). --max-memory refuses a build before it starts when the least passes it; otherwise
+// the build itself stops once its records would pass it (linkRecordLimit).
 struct HierarchyEstimate {
-    uint64_t nearEntries = 0;
+    uint64_t nearEntries = 0;  // at the highest rates
     uint64_t farLinks = 0;
     uint64_t bytes = 0;  // held by the built transport
     uint64_t peakBytes = 0;  // the larger of bytes and the build's link records with their copies
+    uint64_t leastPeakBytes = 0;  // the build's peak at the lowest rates measured
 };
 HierarchyEstimate estimateHierarchy(const PatchMesh& mesh, std::size_t wavelengthCount);
+
+// What the link records (hierarchical_links.h) may hold when the build may hold `maxBytes`:
+// the estimate's peak is the tree's arrays and the records three times over (a thread's grown
+// vector up to twice its records, and their merged copy), so a third of what the tree leaves.
+uint64_t linkRecordLimit(const PatchMesh& mesh, std::size_t wavelengthCount, uint64_t maxBytes);
 
 // Builds the tree and the links on the CPU (Embree rays, TBB threads): the oracle weighs the
 // light of `system` (hierarchical/link_oracle.h), the near links are the cpu backend's pair
 // evaluation with `settings` (method, L, K, seed, threads, cancel), the far links' visibility
-// is sampled on the patches' exposed parts (`exposure`: patchExposure(mesh)).
+// is sampled on the patches' exposed parts (`exposure`: patchExposure(mesh)). The refinement
+// stops with buildHierarchicalLinks's kLinkRecordsOverLimit error once its records pass
+// linkRecordLimit(maxBytes).
 Expected<std::shared_ptr<const HierarchicalTransport>> buildHierarchicalTransport(
     const PatchMesh& mesh, const PatchExposure& exposure, const RadiositySystem& system,
-    const HierarchySettings& hierarchy, const FormFactorSettings& settings);
+    const HierarchySettings& hierarchy, const FormFactorSettings& settings,
+    uint64_t maxBytes = UINT64_MAX);
 
 }  // namespace daisy

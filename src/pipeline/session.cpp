@@ -521,14 +521,21 @@ Expected<FormFactorReport> Session::buildHierarchical(const std::string& backend
     Timer timer;
     const HierarchyEstimate estimate = estimateHierarchy(s.patches, s.system.wavelengthCount);
     s.stageLine(concat("view factors: hierarchical over ", formatCount(s.patches.patchCount()),
-                       " patches, ~", formatBytes(double(estimate.bytes)), " (~",
+                       " patches, up to ~", formatBytes(double(estimate.bytes)), " (",
+                       formatBytes(double(estimate.leastPeakBytes)), " to ",
                        formatBytes(double(estimate.peakBytes)), " while building; estimate)"));
-    if (estimate.peakBytes > s.settings.maxMemoryBytes) {
-        return Error{concat(s.scenePath(), ": the hierarchical transport needs about ",
-                            formatBytes(double(estimate.peakBytes)), " to build for ",
-                            formatCount(s.patches.patchCount()),
-                            " patches, more than --max-memory ",
-                            formatBytes(double(s.settings.maxMemoryBytes)), "; ", memoryAdvice())};
+    // The links in hand (a refinement's) are kept until the new ones replace them.
+    const uint64_t held = s.transport ? s.transport->stats().bytes : 0;
+    const uint64_t budget = s.settings.maxMemoryBytes > held ? s.settings.maxMemoryBytes - held : 0;
+    if (estimate.leastPeakBytes > budget) {
+        return Error{concat(
+            s.scenePath(), ": the hierarchical transport needs at least ",
+            formatBytes(double(estimate.leastPeakBytes)), " to build for ",
+            formatCount(s.patches.patchCount()), " patches",
+            held > 0 ? concat(" beside the ", formatBytes(double(held)), " the links in hand hold")
+                     : std::string(),
+            ", more than --max-memory ", formatBytes(double(s.settings.maxMemoryBytes)), "; ",
+            memoryAdvice())};
     }
     FormFactorReport report;
     std::optional<LinksCache> cache;
@@ -566,8 +573,15 @@ Expected<FormFactorReport> Session::buildHierarchical(const std::string& backend
     FormFactorSettings settings = formFactorSettingsOf(s.settings, cancel, onProgress);
     auto exposure = this->exposure();
     if (!exposure) return Error{concat(s.scenePath(), ": ", exposure.error().message)};
-    auto built =
-        buildHierarchicalTransport(s.patches, **exposure, s.system, s.settings.hierarchy, settings);
+    auto built = buildHierarchicalTransport(s.patches, **exposure, s.system, s.settings.hierarchy,
+                                            settings, budget);
+    if (!built && built.error().message.starts_with(kLinkRecordsOverLimit)) {
+        return Error{
+            concat(s.scenePath(), ": the hierarchical transport needs more than --max-memory ",
+                   formatBytes(double(s.settings.maxMemoryBytes)), " to build for ",
+                   formatCount(s.patches.patchCount()), " patches (", built.error().message,
+                   "); a larger --link-tolerance makes fewer links; ", memoryAdvice())};
+    }
     if (!built) return withContext(built.error(), s.scenePath());
     ++s.builds;
     const LinkStats& stats = (*built)->linkStats();
@@ -614,15 +628,7 @@ Expected<FormFactorReport> Session::refineLinks(const CancelToken* cancel,
     if (!s.transport || !s.linksImportance) {
         return Error{"refineLinks: the session holds no hierarchical links"};
     }
-    const uint64_t held = s.transport->stats().bytes;
-    const uint64_t peak = estimateHierarchy(s.patches, s.system.wavelengthCount).peakBytes;
-    if (held + peak > s.settings.maxMemoryBytes) {
-        return Error{concat(s.scenePath(), ": refining the links again needs about ",
-                            formatBytes(double(peak)), " beside the ", formatBytes(double(held)),
-                            " the current ones hold, more than --max-memory ",
-                            formatBytes(double(s.settings.maxMemoryBytes)),
-                            "; the edit is solved on the links in hand")};
-    }
+    // buildHierarchical counts the links in hand against --max-memory beside the new ones.
     finishCacheWrite();  // the cache store of the old links holds them until it ends
     return buildHierarchical(s.settings.backend, cancel, true, onProgress);
 }
@@ -643,7 +649,11 @@ std::shared_ptr<const Transport> Session::sharedTransport() const {
 
 std::string Session::memoryAdvice() const {
     const State& s = *state_;
-    if (s.patches.patchCount() > s.scene.mesh.triangleCount()) {
+    // Subdivided when there are more front patches than triangles (a double-sided one's back
+    // patch is no subdivision).
+    const auto paired = std::count_if(s.patches.backPatch.begin(), s.patches.backPatch.end(),
+                                      [](uint32_t back) { return back != kNoBackPatch; });
+    if (s.patches.patchCount() - std::size_t(paired) / 2 > s.scene.mesh.triangleCount()) {
         return concat("use a larger --subdivide (the patches are subdivided to edges <= ",
                       formatNumber(s.maxEdge, 4), ") or raise --max-memory");
     }

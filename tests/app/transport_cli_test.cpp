@@ -128,21 +128,45 @@ TEST(TransportCli, BackendsWithoutLinksAndTheMatrixExportAreRefused) {
     EXPECT_FALSE(std::filesystem::exists(matrix));
 }
 
-// --max-memory is checked against what building the links holds at its peak, before any of it.
-TEST(TransportCli, LinksOverTheMemoryLimitAreRefusedBeforeTheBuild) {
+// --max-memory against the links' build (Cornell box, 3,800 patches: by the estimate's own
+// accounting, the tree's 9.8 MiB and three times the 9.8 MiB of records it makes, about 39 MiB;
+// the estimate before the build 22.6 to 93.5 MiB): a limit under the least the estimate
+// expects refuses the build before it starts; one between the least and what the build needs
+// stops the refinement once its records pass it; one the build fits in, though under the most
+// the estimate expects, lets it finish. A small image, so that its own memory passes.
+TEST(TransportCli, LinksOverTheMemoryLimitAreRefusedOrStopped) {
     const auto dir = test::testTempDir();
     const std::string image = (dir / "out.png").string();
-    const RunResult refused =
-        runDaisy("render " + kCornellBox +
-                 " --transport hierarchical --no-cache --max-memory 40M -o " + image);
+    const std::string render = "render " + kCornellBox +
+        " --transport hierarchical --no-cache --verbose --width 64 --height 64 -o " + image;
+    const RunResult refused = runDaisy(render + " --max-memory 16M");
     EXPECT_EQ(refused.status, 2) << refused.output;
-    EXPECT_NE(refused.output.find(": the hierarchical transport needs about "), std::string::npos)
+    EXPECT_NE(refused.output.find(": the hierarchical transport needs at least "),
+              std::string::npos)
         << refused.output;
-    EXPECT_NE(refused.output.find(" to build for 3,"), std::string::npos) << refused.output;
-    EXPECT_NE(refused.output.find("more than --max-memory 40.0 MiB"), std::string::npos)
+    EXPECT_NE(refused.output.find(" to build for 3,800 patches, more than --max-memory 16.0 MiB"),
+              std::string::npos)
         << refused.output;
-    EXPECT_EQ(refused.output.find("far links and"), std::string::npos) << refused.output;
+    EXPECT_EQ(refused.output.find("hierarchy: "), std::string::npos) << refused.output;
     EXPECT_FALSE(std::filesystem::exists(image));
+
+    const RunResult stopped = runDaisy(render + " --max-memory 32M");
+    EXPECT_EQ(stopped.status, 2) << stopped.output;
+    EXPECT_NE(stopped.output.find(": the hierarchical transport needs more than --max-memory "
+                                  "32.0 MiB to build for 3,800 patches (the links' records "
+                                  "passed "),
+              std::string::npos)
+        << stopped.output;
+    EXPECT_NE(stopped.output.find("a larger --link-tolerance makes fewer links"), std::string::npos)
+        << stopped.output;
+    EXPECT_EQ(stopped.output.find("hierarchy: "), std::string::npos) << stopped.output;
+    EXPECT_FALSE(std::filesystem::exists(image));
+
+    const RunResult fits = runDaisy(render + " --max-memory 40M");
+    EXPECT_EQ(fits.status, 0) << fits.output;
+    EXPECT_NE(fits.output.find("while building; estimate)"), std::string::npos) << fits.output;
+    EXPECT_NE(fits.output.find("hierarchy: "), std::string::npos) << fits.output;
+    EXPECT_TRUE(std::filesystem::exists(image));
 }
 
 }  // namespace

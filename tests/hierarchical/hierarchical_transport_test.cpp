@@ -601,6 +601,37 @@ TEST(HierarchicalTransport, TheBuildReportsItsProgress) {
     }
 }
 
+// The build's record limit holds exactly: given the memory for the records an unlimited build
+// makes (linkRecordLimit: the tree's arrays and the records three times over), it builds the
+// same links; given one record byte less, it stops with kLinkRecordsOverLimit.
+TEST(HierarchicalTransport, TheBuildStopsExactlyWhenItsRecordsPassTheLimit) {
+    const PatchMesh mesh = verify::patchesOf(verify::parallelSquares(16, 1));
+    const RadiositySystem system = greySystem(mesh, 0.5, 1);
+    auto exposure = patchExposure(mesh);
+    ASSERT_TRUE(exposure.ok()) << exposure.error().message;
+    const auto unlimited = build(mesh, system);
+    ASSERT_TRUE(unlimited);
+    const LinkStats& stats = unlimited->linkStats();
+    const uint64_t records =
+        stats.farLinks * kFarRecordBytes + stats.nearPairsEvaluated * kNearRecordBytes;
+    ASSERT_GT(records, 0u);
+    // The tree's share: maxBytes - 3 x the limit, where 3 divides maxBytes less the tree.
+    uint64_t tree = UINT64_MAX;
+    for (uint64_t max = uint64_t(1) << 40; max < (uint64_t(1) << 40) + 3; ++max)
+        tree = std::min(tree, max - 3 * linkRecordLimit(mesh, 1, max));
+    const uint64_t exact = tree + 3 * records;
+    ASSERT_EQ(linkRecordLimit(mesh, 1, exact), records);
+    ASSERT_EQ(linkRecordLimit(mesh, 1, exact - 1), records - 1);
+    auto fits = buildHierarchicalTransport(mesh, *exposure, system, {}, quietSettings(), exact);
+    ASSERT_TRUE(fits.ok()) << fits.error().message;
+    EXPECT_EQ((*fits)->linkStats().farLinks, stats.farLinks);
+    EXPECT_EQ((*fits)->linkStats().nearEntries, stats.nearEntries);
+    auto over = buildHierarchicalTransport(mesh, *exposure, system, {}, quietSettings(), exact - 1);
+    ASSERT_FALSE(over.ok());
+    EXPECT_TRUE(over.error().message.starts_with(kLinkRecordsOverLimit)) << over.error().message;
+    EXPECT_EQ(linkRecordLimit(mesh, 1, tree), 0u);
+}
+
 // An edit that moves light (the red wall made a lamp as strong as the ceiling's) leaves links
 // refined for the old light too coarse around it: the session says so, and refines them again
 // to exactly the links a fresh session with the edited material builds (the same B bit for
