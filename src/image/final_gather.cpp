@@ -11,11 +11,13 @@
 
 #include "core/check.h"
 #include "core/strings.h"
+#include "geometry/bounds.h"
 #include "geometry/shared_vec.h"
 #include "image/camera.h"
 #include "image/emitter_lights.h"
 #include "image/pixel_samples.h"
 #include "radiosity/hybrid_far_field.h"
+#include "radiosity/punctual_lights.h"
 #include "raycast/ray_caster.h"
 #include "shared/formfactor.h"
 #include "shared/rng.h"
@@ -26,17 +28,6 @@ namespace daisy {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-// What the patches emit themselves (patchCount x m): E without the punctual lights' direct
-// light, which the patches reflect (it stays in the smooth part, per patch) and which is not a
-// source to gather. Treating every lit patch as a light made the gathered image 11% brighter
-// than the path tracer and `--gather none` in a room lit by a point light.
-std::vector<double> ownEmission(const RadiositySystem& system) {
-    std::vector<double> own = system.emission;
-    for (std::size_t i = 0; i < system.punctualEmission.size(); ++i)
-        own[i] -= system.punctualEmission[i];
-    return own;
-}
 
 bool emits(std::span<const double> emission, std::size_t m, uint32_t patch) {
     const double* e = emission.data() + std::size_t(patch) * m;
@@ -406,7 +397,62 @@ std::vector<uint8_t> penumbraNeighbours(const std::vector<uint64_t>& marks, int 
     return selected;
 }
 
+// The punctual lights' direct irradiance P(x) per sample: each light's factor
+// (punctualPointFactor) behind one shadow segment from x, times its spectrum.
+class PunctualSampler {
+public:
+    PunctualSampler(const std::vector<PunctualLight>& lights,
+                    const std::vector<std::vector<double>>& spectra, double far,
+                    const RayCaster& tracer)
+        : lights_(lights), spectra_(spectra), far_(far), tracer_(tracer) {
+        factor_.reserve(lights.size());
+        index_.reserve(lights.size());
+        blocked_.resize(lights.size());
+    }
+
+    void addIrradiance(const Vec3d& x, const Vec3d& n, std::span<double> irradiance) {
+        factor_.clear();
+        index_.clear();
+        segments_.resize(lights_.size());
+        for (std::size_t l = 0; l < lights_.size(); ++l) {
+            Vec3d end;
+            const double g = punctualPointFactor(lights_[l], x, n, far_, end);
+            if (!(g > 0)) continue;
+            segments_.set(factor_.size(), float(x.x), float(x.y), float(x.z), float(end.x),
+                          float(end.y), float(end.z));
+            factor_.push_back(g);
+            index_.push_back(l);
+        }
+        if (factor_.empty()) return;
+        segments_.resize(factor_.size());
+        tracer_.occluded(segments_, std::span<uint8_t>(blocked_.data(), factor_.size()));
+        for (std::size_t q = 0; q < factor_.size(); ++q) {
+            if (blocked_[q]) continue;
+            const std::vector<double>& spectrum = spectra_[index_[q]];
+            for (std::size_t k = 0; k < irradiance.size(); ++k)
+                irradiance[k] += factor_[q] * spectrum[k];
+        }
+    }
+
+private:
+    const std::vector<PunctualLight>& lights_;
+    const std::vector<std::vector<double>>& spectra_;  // punctualLightSpectra
+    double far_;
+    const RayCaster& tracer_;
+    SegmentArrays segments_;
+    std::vector<double> factor_;
+    std::vector<std::size_t> index_;
+    std::vector<uint8_t> blocked_;
+};
+
 }  // namespace
+
+std::vector<double> ownEmission(const RadiositySystem& system) {
+    std::vector<double> own = system.emission;
+    for (std::size_t i = 0; i < system.punctualEmission.size(); ++i)
+        own[i] -= system.punctualEmission[i];
+    return own;
+}
 
 std::vector<double> radiosityWithoutDirectLight(const RadiositySystem& system,
                                                 const Transport& transport,
@@ -432,6 +478,10 @@ std::vector<double> radiosityWithoutDirectLight(const RadiositySystem& system,
                       reflected.data());
         for (std::size_t o = 0; o < m; ++o)
             out[i * m + o] -= reflected[o];
+        if (!system.punctualEmission.empty()) {
+            for (std::size_t o = 0; o < m; ++o)
+                out[i * m + o] -= system.punctualEmission[i * m + o];
+        }
     }
     return out;
 }
@@ -495,7 +545,13 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
     const int xyzChannel = spectral ? int(m) : 0;
     Image image(settings.width, settings.height, channels);
     const bool gatherNear = nearField != nullptr && !nearField->empty();
-    if (lights.empty() && !gatherNear) return image;
+    if (lights.empty() && scene.lights.empty() && !gatherNear) return image;
+    auto punctualSpectra = punctualLightSpectra(scene.lights, set);
+    if (!punctualSpectra) return withContext(punctualSpectra.error(), "final gather");
+    Bounds3d bounds;
+    for (const Vec3d& v : patches.positions)
+        bounds.extend(v);
+    const double far = 4 * std::max(length(bounds.hi - bounds.lo), 1e-3);
     if (!settings.pixelSides.empty() &&
         settings.pixelSides.size() != std::size_t(settings.width) * settings.height) {
         return Error{concat("final gather: ", settings.pixelSides.size(),
@@ -551,6 +607,7 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
         std::vector<Ray> rays(rowSamples);
         std::vector<SurfaceHit> hits(rowSamples);
         LightSampler sampler(lights, seen, spectra, m, exactWeights, tracer, maxK * pass.rayFactor);
+        PunctualSampler punctual(scene.lights, *punctualSpectra, far, tracer);
         std::vector<double> irradiance(m), reflected(m), sum(static_cast<std::size_t>(channels));
         std::vector<double> sampleValues(std::size_t(xyzChannel) + 3);
         for (int y = rows.begin(); y != rows.end(); ++y) {
@@ -613,6 +670,7 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
                         gatherNear ? nearField->addIrradiance(p, hit.u, hit.v, irradiance) : 0.0;
                     mark |= sampler.addIrradiance(xf, nf, p, s, k, strata, pixelSeed, sampleSeed,
                                                   irradiance);
+                    punctual.addIrradiance(px, n, irradiance);
                     applyOperator(op, irradiance.data(), reflected.data());
                     for (double& v : reflected)
                         v /= kPi;

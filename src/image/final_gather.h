@@ -3,15 +3,21 @@
 // surface point is computed per sample, exactly, instead of being read from the patches' smooth
 // radiosity, so shadows and penumbrae are as sharp as the geometry makes them.
 //
-// Split of the solved radiosity (DESIGN.md section 2): B_i = E_i + M_i G_i with G_i = sum_j F_ij
-// B_j, and the direct part of G_i is D_i = sum_{j emitting} F_ij E_j. The image is
+// Split of the solved radiosity (DESIGN.md section 2): B_i = E_i + M_i P_i + M_i G_i with E_i
+// what the patch emits, P_i the punctual lights' direct irradiance (its patch mean, exact by
+// solid angle: radiosity/punctual_lights.h; the solve carries it in the emission term),
+// G_i = sum_j F_ij B_j, and the direct part of G_i is D_i = sum_{j emitting} F_ij E_j. The
+// image is
 //     L(x) = [E + M (G - D)]_i / pi smoothed over vertices (vertex_radiance.h)
-//          + M_i H(x) / pi,   H(x) = sum_{lights l} E_l F(x -> l) V(x, l),
+//          + M_i [H(x) + P(x)] / pi,   H(x) = sum_{lights l} E_l F(x -> l) V(x, l),
 // F(x -> l) the exact point-to-triangle factor of each emitting source triangle (Lambert's
 // contour formula, shared/formfactor.h, clipped to x's front half-space) and V(x, l) the
-// visibility. The lights are the emitting source triangles with each flat convex face of one
-// emission merged into a fan over its outline (image/emitter_lights.h: the tubes' 176 triangles
-// are 20 lights), which changes no factor.
+// visibility; P(x) each punctual light's c I cos(theta) falloff / d^2 at x behind one shadow
+// segment (punctualPointFactor), as the path tracer's next-event estimation has it. Left in
+// the smooth part, a point light 0.25 m from a wall made a disc of the patches' means:
+// 10-15% too bright around the light's foot point and too dark at it. The lights are the emitting
+// source triangles with each flat convex face of one emission merged into a fan over its outline
+// (image/emitter_lights.h: the tubes' 176 triangles are 20 lights), which changes no factor.
 //
 // V from k shadow segments per sample, drawn over the lights in proportion to F(x -> l) times l's
 // power (stratified over that distribution: a scene of two light triangles gives each k / 2, the
@@ -66,9 +72,13 @@ struct DirectLightSettings {
     uint32_t seed = 1;
 };
 
-// B with the emitters' direct contribution removed: E_i + M_i (G_i - D_i) = B_i - M_i D_i
-// (n x m, row-major, the system's layout), D_i the emitters' light gathered through `transport`;
-// for the patches marked in `patches` only (empty: all), the others keep B_i.
+// What the patches emit themselves (n x m, the system's layout): E without the punctual lights'
+// direct light M_i P_i, which the patches reflect and the gather computes per sample.
+std::vector<double> ownEmission(const RadiositySystem& system);
+
+// B with the direct light removed: E_i + M_i (G_i - D_i) = B_i - M_i D_i - M_i P_i (n x m,
+// row-major, the system's layout), D_i the emitters' light gathered through `transport`; for
+// the patches marked in `patches` only (empty: all), the others keep B_i.
 std::vector<double> radiosityWithoutDirectLight(const RadiositySystem& system,
                                                 const Transport& transport,
                                                 std::span<const double> radiosity,
@@ -85,7 +95,8 @@ Expected<std::vector<double>> patchDirectIrradiance(const Scene& scene, const Pa
 // The direct term M_i H(x) / pi per pixel, on the renderer's sample positions (stratum centres,
 // image/pixel_samples.h, per pixel settings.pixelSides when given: edge_sampling.h) and box
 // filter, in the channels of pipeline/channel_layout.h (coverage 0).
-// Lights are the emitting triangles of scene.mesh, faces merged (emitter_lights.h). Fails (no
+// Lights are the emitting triangles of scene.mesh, faces merged (emitter_lights.h), and
+// scene.lights (KHR_lights_punctual). Fails (no
 // crash) on what renderCornerValues refuses. `shader` (renderCornerValues's) moves hits to back
 // patches and puts the texture detail on each sample's direct light. With `nearField`, each
 // sample's irradiance also takes its near-field indirect part Near(x) (near_field.h).

@@ -24,8 +24,9 @@
 //     Far(x) = (1 - Omega(x)) (G_i - D_i - N_i) / (1 - Omega_i),
 // so a point in a crease, where the neighbour covers half the hemisphere, trades far light for
 // near light instead of adding it. The image is, per sample (S the smooth image of
-// S_i = E_i + M_i (G_i - D_i - N_i) / (1 - Omega_i)):
-//     S(x) + [M_i H(x) + M_i Near(x)] / pi - Omega(x) (S(x) - E_i / pi),
+// S_i = E_i + M_i (G_i - D_i - N_i) / (1 - Omega_i), E_i what the patch emits itself and
+// P the punctual lights' direct light, final_gather.h):
+//     S(x) + [M_i H(x) + M_i P(x) + M_i Near(x)] / pi - Omega(x) (S(x) - E_i / pi),
 // whose patch mean is B_i / pi (light moved within patches, none added). In a closed room of
 // uniform E and rho it is B = E / (1 - rho) at every point; where no near patch is in view it
 // is the direct gather's image. Patches partly buried under an object (patch_exposure.h) take
@@ -69,9 +70,11 @@ public:
                            const PatchExposure& exposure, const NearFieldSettings& settings,
                            std::span<const uint8_t> receivers = {});
 
-    // From the direct gather's smooth part b = B - M D (n x m), in place: S_i above (b_i for
-    // patches without near neighbours).
-    void toFarRadiosity(const RadiositySystem& system, std::span<double> b) const;
+    // From the direct gather's smooth part b = B - M D - M P (n x m), in place: S_i above (b_i
+    // for patches without near neighbours). `emission`: E, what the patches emit themselves
+    // (final_gather.h's ownEmission).
+    void toFarRadiosity(const RadiositySystem& system, std::span<const double> emission,
+                        std::span<double> b) const;
 
     // Keeps the smooth image's corner values (vertex_radiance.h's layout) and each patch's
     // emission E_i / pi in the same `channels` (final_gather.h's radiosityChannels), which

@@ -65,6 +65,7 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
         const std::vector<double>& b = session.displayRadiosity();
         std::vector<double> smooth =
             radiosityWithoutDirectLight(session.system(), session.transport(), b, *inView);
+        const std::vector<double> own = ownEmission(session.system());
         std::vector<double> weights;  // the patch areas (empty), or their exposed parts
         if (mode == GatherMode::Near) {
             Timer nearTimer;
@@ -77,7 +78,7 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
                 near = NearField::build(session.patches(), session.system(), session.transport(), b,
                                         **exposure, nearField, *inView);
             });
-            near.toFarRadiosity(session.system(), smooth);
+            near.toFarRadiosity(session.system(), own, smooth);
             weights = exposedAreas(session.patches(), **exposure);
             t.nearSeconds = nearTimer.seconds();
             t.nearPairs = near.pairCount();
@@ -87,10 +88,8 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
                                radiosityChannels(session.wavelengths(), smooth, spectral), channels,
                                kCreaseAngleRad, weights);
         if (!near.empty()) {
-            near.setSmoothImage(
-                corners,
-                radiosityChannels(session.wavelengths(), session.system().emission, spectral),
-                channels);
+            near.setSmoothImage(corners, radiosityChannels(session.wavelengths(), own, spectral),
+                                channels);
         }
     } else {
         corners = session.cornerChannels(spectral);

@@ -298,20 +298,9 @@ struct Tracer {
                            const std::vector<double>& next, SegmentArrays& segment, uint64_t& rays,
                            const AddEmission& addEmission) const {
         for (std::size_t l = 0; l < lights.size(); ++l) {
-            const PunctualLight& light = lights[l];
-            double g = 0;
             Vec3d end;
-            if (light.type == PunctualLight::Type::Directional) {
-                g = -dot(n, light.direction);
-                end = x - light.direction * far;
-            } else {
-                const Vec3d d = light.position - surface;
-                const double r = length(d);
-                g = dot(n, d) / (r * r * r) *
-                    punctualFalloff(light, r, -dot(light.direction, d) / r);
-                end = light.position;
-            }
-            if (!(g > 0) || !std::isfinite(g)) continue;
+            const double g = punctualPointFactor(lights[l], surface, n, far, end);
+            if (!(g > 0)) continue;
             segment.set(0, float(x.x), float(x.y), float(x.z), float(end.x), float(end.y),
                         float(end.z));
             uint8_t blocked = 0;

@@ -249,6 +249,21 @@ double punctualFalloff(const PunctualLight& light, double distance, double cosFr
     return falloff;
 }
 
+double punctualPointFactor(const PunctualLight& light, const Vec3d& x, const Vec3d& n, double far,
+                           Vec3d& shadowEnd) {
+    double g;
+    if (light.type == PunctualLight::Type::Directional) {
+        g = -dot(n, light.direction);
+        shadowEnd = x - light.direction * far;
+    } else {
+        const Vec3d d = light.position - x;
+        const double r = length(d);
+        g = dot(n, d) / (r * r * r) * punctualFalloff(light, r, -dot(light.direction, d) / r);
+        shadowEnd = light.position;
+    }
+    return g > 0 && std::isfinite(g) ? g : 0.0;
+}
+
 Expected<LightGeometry> punctualLightGeometry(const PatchMesh& patches,
                                               const std::vector<PunctualLight>& lights) {
     LightGeometry geometry;

@@ -55,6 +55,15 @@ double punctualTriangleFlux(const PunctualLight& light, const Triangle3d& t, con
 // without range.
 double punctualFalloff(const PunctualLight& light, double distance, double cosFromAxis);
 
+// The irradiance factor g at point x (unit normal n) from `light`, H = g c I as above:
+// cos(theta) falloff / d^2 for a point or spot light, cos(theta) for a directional one; 0 when
+// the light lies behind x's surface or g is not finite (a light too close for d^3 to be a
+// normal double). `shadowEnd` is set to where x's shadow segment ends: the light, or `far`
+// (a length that leaves the scene) towards a directional light. The path tracer's next-event
+// estimation and the final gather's per-sample direct light.
+double punctualPointFactor(const PunctualLight& light, const Vec3d& x, const Vec3d& n, double far,
+                           Vec3d& shadowEnd);
+
 // Per light, its irradiance spectrum at g = 1 on `set`: colour x intensity as an RGB emission
 // spectrum, or its own spectral emission times the intensity. Fails naming the light on a
 // spectrum that cannot be sampled.

@@ -21,6 +21,7 @@
 #include "image/radiosity_image.h"
 #include "pathtrace/path_tracer.h"
 #include "pipeline/session.h"
+#include "radiosity/punctual_lights.h"
 #include "verify/closed_forms.h"
 #include "verify/scenes.h"
 
@@ -302,9 +303,11 @@ TEST(FinalGather, PerPixelSampleGridsKeepShadowsAndTheClosedForm) {
 
 // A point light between the plates, with a source that also reflects (rho 0.5, E 1): the light
 // it and the receiver reflect is in their E for the solve, but it is not light they emit, so the
-// per-sample gather must gather exactly what it gathers without the point light (the source's
-// E = 1 only), while the solved radiosity (the smooth part) does change.
-TEST(FinalGather, PatchesLitByPunctualLightsAreNotGatheredAsSources) {
+// per-sample gather must not gather it from them; it gathers the point light itself at each
+// sample instead: the gathered image with the light is the one without it plus exactly
+// rho c I cos(theta) / (pi d^2) at each receiver pixel (one sample a pixel, at its centre),
+// while the solved radiosity (the smooth part) changes too.
+TEST(FinalGather, PunctualLightsAreGatheredPerSampleNotFromThePatchesTheyLight) {
     Plates p = plates();
     p.scene.materials[1] = flat(0.5, 1);
     const Session dark = solvedSession(p);
@@ -315,8 +318,8 @@ TEST(FinalGather, PatchesLitByPunctualLightsAreNotGatheredAsSources) {
     p.scene.lights = {bulb};
     const Session lit = solvedSession(p);
     RenderSettings settings;
-    settings.width = 32;
-    settings.height = 24;
+    settings.width = 64;
+    settings.height = 48;
     const DirectLightSettings direct;
     auto without = renderDirectLight(dark.scene(), dark.patches(), dark.system(),
                                      dark.wavelengths(), p.camera, settings, direct, false);
@@ -324,8 +327,25 @@ TEST(FinalGather, PatchesLitByPunctualLightsAreNotGatheredAsSources) {
                                   p.camera, settings, direct, false);
     ASSERT_TRUE(without.ok() && with.ok());
     ASSERT_EQ(without->pixels.size(), with->pixels.size());
-    for (std::size_t i = 0; i < with->pixels.size(); ++i)
-        EXPECT_NEAR(with->pixels[i], without->pixels[i], 1e-6 * without->pixels[i] + 1e-9) << i;
+    auto spectra = punctualLightSpectra(lit.scene().lights, lit.wavelengths());
+    ASSERT_TRUE(spectra.ok()) << spectra.error().message;
+    const double spectrum = (*spectra)[0][0];  // c I at 550 nm
+    ASSERT_GT(spectrum, 0);
+    const double yWeight = lit.wavelengths().xyzWeights(0)[1];
+    int pixels = 0;
+    for (int y = 0; y < settings.height; ++y) {
+        for (int x = 0; x < settings.width; ++x) {
+            Vec3d point;
+            if (!receiverPoint(p.camera, settings.width, settings.height, x, y, point)) continue;
+            const Vec3d d = bulb.position - point;
+            const double r = length(d);
+            const double exact = 0.5 * spectrum * d.z / (r * r * r) / kPi;
+            const double added = (with->at(x, y)[1] - without->at(x, y)[1]) / yWeight;
+            EXPECT_NEAR(added, exact, 1e-5 * exact) << x << " " << y;
+            ++pixels;
+        }
+    }
+    EXPECT_GT(pixels, 100);
     // The light is in the solve: the receiver's radiosity rose.
     EXPECT_GT(lit.solution().radiosity[0], 1.5 * dark.solution().radiosity[0]);
 }

@@ -247,6 +247,66 @@ TEST(NearFieldGather, WhiteFurnaceIsUniformWithTheNearFieldOn) {
     EXPECT_GT(field.addIrradiance(at.patch, at.u, at.v, std::span<double>(&irradiance, 1)), 0.3);
 }
 
+// A point light 0.2 above the floor of a closed room (reflectance 0.5, nothing emits): the
+// gathered image takes its direct light per sample, peaked under the light, out of the smooth
+// part, so the image moves light within the floor and adds none: over the pixels wholly on
+// the floor, weighed by their footprints, it is the floor's area-weighted B / pi (to 1%: the
+// rim a pixel wide that no such pixel covers, and the smooth part's interpolation), with the
+// near field and without. Leaving the light in the smooth part as well counted it twice.
+TEST(NearFieldGather, APointLightsPeakMovesLightWithinTheFloorOnly) {
+    Scene scene;
+    scene.path = "room";
+    scene.mesh = verify::unitCubeRoom(3);
+    scene.materials = {verify::flatMaterial("flat", 0.5, 0)};
+    PunctualLight bulb;
+    bulb.name = "bulb";
+    bulb.position = {0.5, 0.5, 0.2};
+    bulb.intensity = 1;
+    scene.lights = {bulb};
+    Session session = solvedSession(std::move(scene), 0);
+    const Camera camera =
+        test::lookAtCamera("down", {0.5, 0.5, 0.99}, {0.5, 0.5, 0}, {0, 1, 0}, 0.95);
+    RenderSettings settings;
+    settings.width = 200;
+    settings.height = 200;
+    const double yWeight = session.wavelengths().xyzWeights(0)[1];
+    const PatchMesh& patches = session.patches();
+    double floorArea = 0, floorFlux = 0;
+    for (uint32_t p = 0; p < patches.patchCount(); ++p) {
+        if (patches.normals[p].z < 0.99) continue;
+        floorArea += patches.areas[p];
+        floorFlux += patches.areas[p] * session.solution().radiosity[p] / kPi;
+    }
+    const auto onFloor = [&](double x, double y) {
+        const Ray ray = primaryRay(camera, settings.width, settings.height, x, y);
+        const Vec3d o{ray.origin[0], ray.origin[1], ray.origin[2]};
+        const Vec3d d{ray.direction[0], ray.direction[1], ray.direction[2]};
+        return o + d * (-o.z / d.z);
+    };
+    for (const GatherMode mode : {GatherMode::Direct, GatherMode::Near}) {
+        auto image = renderRadiosityImage(session, camera, settings, mode, {}, false);
+        ASSERT_TRUE(image.ok()) << image.error().message;
+        double sum = 0, weight = 0;
+        for (int y = 0; y < settings.height; ++y) {
+            for (int x = 0; x < settings.width; ++x) {
+                const Vec3d a = onFloor(x, y), b = onFloor(x + 1, y), c = onFloor(x + 1, y + 1),
+                            e = onFloor(x, y + 1);
+                bool inside = true;
+                for (const Vec3d& q : {a, b, c, e})
+                    inside = inside && q.x > 0 && q.x < 1 && q.y > 0 && q.y < 1;
+                if (!inside) continue;
+                const double area =
+                    0.5 * std::abs((c.x - a.x) * (e.y - b.y) - (c.y - a.y) * (e.x - b.x));
+                sum += area * image->at(x, y)[1] / yWeight;
+                weight += area;
+            }
+        }
+        ASSERT_GT(weight, 0.95 * floorArea) << gatherModeName(mode);
+        EXPECT_NEAR(sum / weight, floorFlux / floorArea, 0.01 * floorFlux / floorArea)
+            << gatherModeName(mode);
+    }
+}
+
 // A closed box standing on the furnace's subdivided floor: the floor patches along its base run
 // under it, and every point in view still has B = E / (1 - rho). The direct gather shows the
 // solution's buried fractions as a dark band along the base (the strip's B is its exposed
