@@ -551,7 +551,7 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
     Bounds3d bounds;
     for (const Vec3d& v : patches.positions)
         bounds.extend(v);
-    const double far = 4 * std::max(length(bounds.hi - bounds.lo), 1e-3);
+    const double far = 4 * std::max(bounds.diagonal(), 1e-3);  // leaves the scene from anywhere
     if (!settings.pixelSides.empty() &&
         settings.pixelSides.size() != std::size_t(settings.width) * settings.height) {
         return Error{concat("final gather: ", settings.pixelSides.size(),
