@@ -410,16 +410,21 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
     return field;
 }
 
-void NearField::toFarRadiosity(const RadiositySystem& system, std::span<const double> emission,
-                               std::span<double> b) const {
+void NearField::toFarRadiosity(const RadiositySystem& system, std::span<double> b) const {
     const std::size_t m = wavelengthCount_, n = exposed_.size();
-    DAISY_CHECK(b.size() == n * m && emission.size() == n * m);
-    std::vector<double> indirect(m), mean(m), reradiated(m);
+    DAISY_CHECK(b.size() == n * m);
+    const bool punctual = !system.punctualEmission.empty();
+    std::vector<double> indirect(m), mean(m), reradiated(m), own(m);
     for (std::size_t i = 0; i < n; ++i) {
         const MaterialOperator& op = system.operators[system.patchOperator[i]];
         const double phi = exposed_[i];
         if (op.isZero || phi <= 0) continue;
-        const double* e = emission.data() + i * m;
+        const double* e = system.emissionRow(uint32_t(i));
+        if (punctual) {
+            for (std::size_t k = 0; k < m; ++k)
+                own[k] = e[k] - system.punctualEmission[i * m + k];
+            e = own.data();
+        }
         // (B_i - E_i) / phi_i - M_i N_i: the exposed part's far indirect light, spread over
         // 1 - Omega_i of its hemisphere.
         const double* near = patchMeans_.data() + i * m;

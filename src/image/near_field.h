@@ -71,10 +71,9 @@ public:
                            std::span<const uint8_t> receivers = {});
 
     // From the direct gather's smooth part b = B - M D - M P (n x m), in place: S_i above (b_i
-    // for patches without near neighbours). `emission`: E, what the patches emit themselves
-    // (final_gather.h's ownEmission).
-    void toFarRadiosity(const RadiositySystem& system, std::span<const double> emission,
-                        std::span<double> b) const;
+    // for patches without near neighbours), E_i what the patch emits itself (the system's
+    // emission without its punctualEmission).
+    void toFarRadiosity(const RadiositySystem& system, std::span<double> b) const;
 
     // Keeps the smooth image's corner values (vertex_radiance.h's layout) and each patch's
     // emission E_i / pi in the same `channels` (final_gather.h's radiosityChannels), which

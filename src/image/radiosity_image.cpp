@@ -65,7 +65,9 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
         const std::vector<double>& b = session.displayRadiosity();
         std::vector<double> smooth =
             radiosityWithoutDirectLight(session.system(), session.transport(), b, *inView);
-        const std::vector<double> own = ownEmission(session.system());
+        // What the patches emit themselves, in the image's channels (the near field's E_i / pi).
+        std::vector<float> emitted =
+            radiosityChannels(session.wavelengths(), ownEmission(session.system()), spectral);
         std::vector<double> weights;  // the patch areas (empty), or their exposed parts
         if (mode == GatherMode::Near) {
             Timer nearTimer;
@@ -78,7 +80,7 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
                 near = NearField::build(session.patches(), session.system(), session.transport(), b,
                                         **exposure, nearField, *inView);
             });
-            near.toFarRadiosity(session.system(), own, smooth);
+            near.toFarRadiosity(session.system(), smooth);
             weights = exposedAreas(session.patches(), **exposure);
             t.nearSeconds = nearTimer.seconds();
             t.nearPairs = near.pairCount();
@@ -88,8 +90,7 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
                                radiosityChannels(session.wavelengths(), smooth, spectral), channels,
                                kCreaseAngleRad, weights);
         if (!near.empty()) {
-            near.setSmoothImage(corners, radiosityChannels(session.wavelengths(), own, spectral),
-                                channels);
+            near.setSmoothImage(corners, std::move(emitted), channels);
         }
     } else {
         corners = session.cornerChannels(spectral);
