@@ -99,8 +99,12 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
 
     stage.restart();
     const std::vector<float> missValue(std::size_t(channels), 0.0f);
+    // The back of a one-sided surface neither emits nor reflects (the path tracer's model): black,
+    // and covered.
+    std::vector<float> backFace(std::size_t(channels), 0.0f);
+    backFace[std::size_t(session.channelLayout(spectral).coverage())] = 1.0f;
     auto image = renderCornerValues(session.patches(), camera, sampled, corners, channels,
-                                    missValue, shader);
+                                    missValue, shader, backFace);
     if (!image) return image.error();
     t.renderSeconds = planSeconds + stage.seconds();
     if (mode != GatherMode::None) {

@@ -56,10 +56,11 @@ std::size_t rowRays(const Camera& camera, const RenderSettings& settings, int y,
 Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                                    const RenderSettings& settings, std::span<const float> corners,
                                    int channels, std::span<const float> background,
-                                   const SampleShader* shader) {
+                                   const SampleShader* shader, std::span<const float> backFace) {
     DAISY_CHECK(channels > 0);
     DAISY_CHECK(corners.size() == mesh.patchCount() * 3 * std::size_t(channels));
     DAISY_CHECK(background.size() == std::size_t(channels));
+    DAISY_CHECK(backFace.empty() || backFace.size() == std::size_t(channels));
     if (settings.width <= 0 || settings.height <= 0 || settings.samplesPerPixel <= 0) {
         return Error{concat("render: image size ", settings.width, " x ", settings.height, " and ",
                             settings.samplesPerPixel, " samples per pixel must all be positive")};
@@ -104,6 +105,16 @@ Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                         for (std::size_t c = 0; c < stride; ++c)
                             sum[c] += background[c];
                         continue;
+                    }
+                    if (!backFace.empty()) {
+                        const Vec3d& n = mesh.normals[hit.patch];
+                        if (n.x * rays[k].direction[0] + n.y * rays[k].direction[1] +
+                                n.z * rays[k].direction[2] >=
+                            0) {
+                            for (std::size_t c = 0; c < stride; ++c)
+                                sum[c] += backFace[c];
+                            continue;
+                        }
                     }
                     // The hit's barycentrics weight corners 1 and 2; corner 0 takes the rest.
                     const double w1 = hit.u;

@@ -50,12 +50,16 @@ public:
 
 // Renders `channels` values per pixel from per-corner values (cornerValues()'s layout). A pixel
 // is the mean of its samples; a sample that misses takes background[c] (background.size() ==
-// channels). Fails (no crash) when the ray caster cannot build the scene, when the camera lies
-// outside what float32 rays represent, and when renderImageBytes exceeds settings.maxMemoryBytes.
+// channels), and one on the back of a one-sided patch (after the shader's resolve) backFace[c]
+// when backFace is given (a back face neither emits nor reflects: black, but covered), else the
+// patch's own values. Fails (no crash) when the ray caster cannot build the scene, when the
+// camera lies outside what float32 rays represent, and when renderImageBytes exceeds
+// settings.maxMemoryBytes.
 Expected<Image> renderCornerValues(const PatchMesh& mesh, const Camera& camera,
                                    const RenderSettings& settings, std::span<const float> corners,
                                    int channels, std::span<const float> background,
-                                   const SampleShader* shader = nullptr);
+                                   const SampleShader* shader = nullptr,
+                                   std::span<const float> backFace = {});
 
 // Per patch, 1 when a sample of the image (renderCornerValues' rays and hits, after the
 // shader's resolve) lands on it or on a patch sharing a vertex with it (whose corner values

@@ -301,6 +301,36 @@ TEST(FinalGather, PerPixelSampleGridsKeepShadowsAndTheClosedForm) {
     }
 }
 
+// The back of a one-sided surface neither emits nor reflects (the path tracer's model): seen
+// from below, the receiver plate is black in every gather mode, and covered (not background),
+// though its front's radiosity is not 0.
+TEST(FinalGather, TheBackOfAOneSidedSurfaceIsBlack) {
+    const Plates p = plates();
+    const Session session = solvedSession(p);
+    ASSERT_GT(session.solution().radiosity[0], 0.01);
+    Camera below;
+    below.name = "below";
+    below.position = {0.5, 0.5, -1};
+    below.forward = {0, 0, 1};
+    below.up = {0, 1, 0};
+    below.yFovRad = 0.4;
+    RenderSettings settings;
+    settings.width = 16;
+    settings.height = 12;
+    settings.edgeSamplesPerPixel = 4;
+    for (const GatherMode mode : {GatherMode::None, GatherMode::Direct, GatherMode::Near}) {
+        auto image = renderRadiosityImage(session, below, settings, mode, {}, false);
+        ASSERT_TRUE(image.ok()) << image.error().message;
+        for (int y = 0; y < settings.height; ++y) {
+            for (int x = 0; x < settings.width; ++x) {
+                const float* v = image->at(x, y);
+                EXPECT_EQ(v[1], 0.0f) << gatherModeName(mode) << " " << x << " " << y;
+                EXPECT_EQ(v[3], 1.0f) << gatherModeName(mode) << " " << x << " " << y;
+            }
+        }
+    }
+}
+
 // A point light between the plates, with a source that also reflects (rho 0.5, E 1): the light
 // it and the receiver reflect is in their E for the solve, but it is not light they emit, so the
 // per-sample gather must not gather it from them; it gathers the point light itself at each
