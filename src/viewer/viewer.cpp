@@ -89,9 +89,10 @@ double measureExposure(const PatchMesh& mesh, const Camera& camera, const Displa
     settings.width = std::max(width, 1);
     settings.height = std::max(height, 1);
     const float miss[4] = {0, 0, 0, 0};
+    const float backFace[4] = {0, 0, 0, 1};  // black and covered, as daisy render
     Camera imageCamera = camera;
     imageCamera.aspectRatio = 0;
-    auto image = renderCornerValues(mesh, imageCamera, settings, xyz, 4, miss, &detail);
+    auto image = renderCornerValues(mesh, imageCamera, settings, xyz, 4, miss, &detail, backFace);
     return image ? autoExposureScale(*image) : 1.0;
 }
 
