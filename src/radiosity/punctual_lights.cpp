@@ -10,6 +10,7 @@
 #include "core/strings.h"
 #include "radiosity/kernel_inputs.h"
 #include "raycast/ray_caster.h"
+#include "shared/rng.h"
 #include "spectral/fluorescence.h"
 
 namespace daisy {
@@ -19,9 +20,20 @@ constexpr double kPi = std::numbers::pi;
 constexpr int kRegions = 4;  // visibility regions per patch: its midpoint subdivision
 constexpr int kAzimuthSteps = 16;  // per edge, in the falloff's quadrature around the foot point
 
+// A point of triangle t, uniform in area, from a hash of (patch, region): where a region's
+// shadow segment starts. Its centroid would fall into the same gaps of a regular floor for
+// every patch: 0.5 m tiles 1 cm apart over a grout sheet 5 mm below, the sheet's patches cut
+// at whole metres, put their region centroids in the gaps, and the sheet got 79% of the light
+// it gets without the tiles, where the gaps pass 4%.
+Vec3d jitteredPoint(const Triangle3d& t, uint32_t patch, int region) {
+    const uint32_t seed = shared::pcgHash(patch * uint32_t(kRegions) + uint32_t(region));
+    double u = shared::hashToUnitFloat(0, seed), v = shared::hashToUnitFloat(1, seed);
+    if (u + v > 1) u = 1 - u, v = 1 - v;
+    return t[0] + (t[1] - t[0]) * u + (t[2] - t[0]) * v;
+}
+
 // The midpoint subdivision of t (same orientation): the three corner triangles, then the middle
-// one. Their centroids are the patch's shadow-ray points: the midpoints from its centroid to
-// its corners, and the centroid.
+// one: the patch's visibility regions, each seen through one shadow segment.
 std::array<Triangle3d, 4> midpointChildren(const Triangle3d& t) {
     const Vec3d ab = (t[0] + t[1]) * 0.5, bc = (t[1] + t[2]) * 0.5, ca = (t[2] + t[0]) * 0.5;
     return {{{t[0], ab, ca}, {ab, t[1], bc}, {ca, bc, t[2]}, {ab, bc, ca}}};
@@ -312,7 +324,7 @@ Expected<LightGeometry> punctualLightGeometry(const PatchMesh& patches,
                 }
                 segments.resize(kRegions);
                 for (int k = 0; k < kRegions; ++k) {
-                    const Vec3d p = centroidOf(regions[k]);
+                    const Vec3d p = jitteredPoint(regions[k], uint32_t(i), k);
                     const Vec3d end = directional ? p - light.direction * far : light.position;
                     // Start where the segment is `clearance` above the patch's plane (as the
                     // view factors' segments do): the patch and those coplanar with it never

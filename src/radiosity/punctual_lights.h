@@ -21,8 +21,10 @@ namespace daisy {
 using Triangle3d = std::array<Vec3d, 3>;
 
 // Per patch and light, the factor g with H = g c I, H the patch's mean irradiance. The patch's
-// midpoint subdivision makes 4 regions, each seen through one shadow segment from its centroid
-// (the patch's centroid and the midpoints towards its corners); g sums the open regions':
+// midpoint subdivision makes 4 regions, each seen through one shadow segment from a point of
+// it, uniform in area from a hash of the patch and the region (deterministic; fixed points such
+// as the regions' centroids fall into the same gaps of a regular grid together); g sums the
+// open regions':
 // point and spot lights punctualTriangleFlux / area (m^-2, cos(theta) falloff / d^2 far away,
 // never more than the region's solid angle over the area however close the light), directional
 // ones cos(theta) / 4.
