@@ -1,7 +1,7 @@
 // KHR_lights_punctual lights as direct sources (radiosity/punctual_lights.h). Oracles: the flux
 // I Omega a point light puts on a square (the closed-form solid angle of a rectangle), at any
 // height down to 1e-300 m; 4 pi I on the walls of a closed box; full shadow under a plate that
-// covers the plane; the closed-form flux of KHR_lights_punctual's recommended spot cone and range
+// covers the plane, and the gaps' share under tiles; the closed-form flux of KHR_lights_punctual's recommended spot cone and range
 // window; and E_i = M_i H_i in the solved system.
 #include "radiosity/punctual_lights.h"
 
@@ -145,6 +145,32 @@ TEST(PunctualLights, APlateBetweenLightAndFloorCastsFullShadow) {
     ASSERT_TRUE(geometry);
     for (std::size_t i = 0; i < floorPatches; ++i)
         EXPECT_EQ(geometry->factors[i], 0.0) << i;
+}
+
+// Tiles 0.49 m wide, 0.5 m apart, over a sheet 5 mm below cut into 3 m cells: the centroids of
+// the sheet's patches' regions lie at multiples of 0.5 m, in the gaps between the tiles. Seen
+// from a light 10 m above the middle, the sheet must get about the gaps' share of the flux it
+// gets without the tiles (4% of the area), not the 100% those centroids would see.
+TEST(PunctualLights, ASheetUnderGappedTilesGetsTheGapsShare) {
+    TriangleMesh sheet;
+    verify::addGrid(sheet, {0, -0.005, 12}, {12, 0, 0}, {0, 0, -12}, 4, 4);
+    const std::size_t sheetPatches = sheet.triangleCount();
+    TriangleMesh tiled = sheet;
+    for (int a = 0; a < 24; ++a) {
+        for (int b = 0; b < 24; ++b) {
+            const double x = 0.5 * a + 0.005, z = 0.5 * b + 0.495;
+            verify::addGrid(tiled, {x, 0, z}, {0.49, 0, 0}, {0, 0, -0.49}, 1, 1);
+        }
+    }
+    const PunctualLight light = pointLight({6, 10, 6});
+    const PatchMesh open = verify::patchesOf(sheet), covered = verify::patchesOf(tiled);
+    auto bare = punctualLightGeometry(open, {light});
+    auto under = punctualLightGeometry(covered, {light});
+    ASSERT_TRUE(bare && under);
+    const double all = fluxOver(open, *bare, 0, sheetPatches);
+    EXPECT_NEAR(all, rectangleSolidAngle(-6, 6, -6, 6, 10.005), 1e-3 * all);
+    const double gaps = fluxOver(covered, *under, 0, sheetPatches);
+    EXPECT_LT(gaps, 0.12 * all);
 }
 
 // The flux of a light of unit intensity whose falloff is 1 inside the cone of half-angle
