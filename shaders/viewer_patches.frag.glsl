@@ -33,15 +33,18 @@ float decodeSrgb(float c) {
 void main() {
     // Of a double-sided surface's two coincident patches, only the one facing the camera.
     if (inTwoSided > 0.5 && !gl_FrontFacing) discard;
+    // The back of a one-sided surface neither emits nor reflects: black, as daisy render has it.
+    bool oneSidedBack = !gl_FrontFacing;
     bool encode = (p.flags & DAISY_VIEWER_FLAG_ENCODE_SRGB) != 0u;
     vec3 display;
     if (p.mode == DAISY_VIEWER_MODE_FALSE) {
         float value = log(max(inValue.w, 1e-30)) / log(10.0);
-        display = falseColour((value - p.falseLo) / (p.falseHi - p.falseLo));
+        display = oneSidedBack ? vec3(0.0)
+                               : falseColour((value - p.falseLo) / (p.falseHi - p.falseLo));
         if (!encode)
             display = vec3(decodeSrgb(display.x), decodeSrgb(display.y), decodeSrgb(display.z));
     } else {
-        vec3 xyz = inValue.xyz;
+        vec3 xyz = oneSidedBack ? vec3(0.0) : inValue.xyz;
         vec3 rgb = vec3(dot(vec3(p.colourRows[0], p.colourRows[1], p.colourRows[2]), xyz),
                         dot(vec3(p.colourRows[3], p.colourRows[4], p.colourRows[5]), xyz),
                         dot(vec3(p.colourRows[6], p.colourRows[7], p.colourRows[8]), xyz));

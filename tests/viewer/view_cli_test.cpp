@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <regex>
 #include <string>
 #include <utility>
@@ -14,6 +15,7 @@
 #include <unistd.h>
 
 #include "image/image_io.h"
+#include "scene/gltf_builder.h"
 #include "shared/viewer_types.h"
 #include "spectral/color.h"
 #include "test_util.h"
@@ -183,6 +185,48 @@ TEST(ViewCli, DoubleSidedWallsMatchTheRenderWithoutZFighting) {
     if (HasFatalFailure() || IsSkipped()) return;
     EXPECT_LT(meanDeltaE(run.view, run.render), 1.0);
     EXPECT_LT(farPixels(run.view, run.render, 40), 0.0008);
+}
+
+// A one-sided grey square lit on its front by an emitting square, and a camera behind it: the
+// back of a one-sided surface neither emits nor reflects, so the viewer shows it black, as
+// daisy render does (the middle of both pictures, all square), though its front is lit.
+TEST(ViewCli, TheBackOfAOneSidedSurfaceIsBlackAsInTheRender) {
+    test::GltfBuilder gltf;
+    // Both squares face +z's opposite ends: the grey one at z = 0 faces +z (the emitter at
+    // z = 1 faces -z, towards it); the camera at z = -3 looks along +z at the grey one's back.
+    const int grey = gltf.addPositions({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}});
+    const int light = gltf.addPositions({{-1, -1, 1}, {-1, 1, 1}, {1, 1, 1}, {1, -1, 1}});
+    const int quad = gltf.addIndices(std::vector<uint16_t>{0, 1, 2, 0, 2, 3});
+    gltf.doc["materials"] = {
+        {{"name", "grey"}, {"pbrMetallicRoughness", {{"baseColorFactor", {0.7, 0.7, 0.7, 1}}}}},
+        {{"name", "light"},
+         {"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}}},
+         {"emissiveFactor", {1, 1, 1}}}};
+    const int mesh =
+        gltf.addMesh({{{"attributes", {{"POSITION", grey}}}, {"indices", quad}, {"material", 0}},
+                      {{"attributes", {{"POSITION", light}}}, {"indices", quad}, {"material", 1}}});
+    // glTF cameras look along their local -z: a half turn about y looks along +z.
+    gltf.doc["cameras"] = {
+        {{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.05}}}}};
+    gltf.setScene(
+        {gltf.addNode({{"mesh", mesh}}),
+         gltf.addNode({{"camera", 0}, {"translation", {0, 0, -3}}, {"rotation", {0, 1, 0, 0}}})});
+    // Beside the test's own folder, which viewAndRender empties.
+    const auto folder = test::testTempDir().parent_path() / "ViewCli.OneSidedBackScene";
+    std::filesystem::create_directories(folder);
+    const std::string scene = gltf.writeGltf(folder, "back.gltf");
+    ViewAndRender run;
+    viewAndRender(scene + " --width 64 --height 48 --subdivide 0.5", "", run);
+    if (HasFatalFailure() || IsSkipped()) return;
+    for (const Image* image : {&run.view, &run.render}) {
+        for (int y = 18; y < 30; ++y) {
+            for (int x = 26; x < 38; ++x) {
+                for (int c = 0; c < 3; ++c)
+                    EXPECT_EQ(image->at(x, y)[c], 0.0f)
+                        << (image == &run.view ? "view " : "render ") << x << " " << y;
+            }
+        }
+    }
 }
 
 // The Blender room's floor is a bilinear checker texture: `daisy render` multiplies the smooth
