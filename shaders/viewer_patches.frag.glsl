@@ -39,8 +39,8 @@ void main() {
     vec3 display;
     if (p.mode == DAISY_VIEWER_MODE_FALSE) {
         float value = log(max(inValue.w, 1e-30)) / log(10.0);
-        display = oneSidedBack ? vec3(0.0)
-                               : falseColour((value - p.falseLo) / (p.falseHi - p.falseLo));
+        display =
+            oneSidedBack ? vec3(0.0) : falseColour((value - p.falseLo) / (p.falseHi - p.falseLo));
         if (!encode)
             display = vec3(decodeSrgb(display.x), decodeSrgb(display.y), decodeSrgb(display.z));
     } else {

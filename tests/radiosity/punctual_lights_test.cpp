@@ -1,8 +1,8 @@
 // KHR_lights_punctual lights as direct sources (radiosity/punctual_lights.h). Oracles: the flux
 // I Omega a point light puts on a square (the closed-form solid angle of a rectangle), at any
 // height down to 1e-300 m; 4 pi I on the walls of a closed box; full shadow under a plate that
-// covers the plane, and the gaps' share under tiles; the closed-form flux of KHR_lights_punctual's recommended spot cone and range
-// window; and E_i = M_i H_i in the solved system.
+// covers the plane, and the gaps' share under tiles; the closed-form flux of KHR_lights_punctual's
+// recommended spot cone and range window; and E_i = M_i H_i in the solved system.
 #include "radiosity/punctual_lights.h"
 
 #include <gtest/gtest.h>
