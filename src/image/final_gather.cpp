@@ -11,7 +11,6 @@
 
 #include "core/check.h"
 #include "core/strings.h"
-#include "geometry/bounds.h"
 #include "geometry/shared_vec.h"
 #include "image/camera.h"
 #include "image/emitter_lights.h"
@@ -548,10 +547,7 @@ Expected<Image> renderDirectLight(const Scene& scene, const PatchMesh& patches,
     if (lights.empty() && scene.lights.empty() && !gatherNear) return image;
     auto punctualSpectra = punctualLightSpectra(scene.lights, set);
     if (!punctualSpectra) return withContext(punctualSpectra.error(), "final gather");
-    Bounds3d bounds;
-    for (const Vec3d& v : patches.positions)
-        bounds.extend(v);
-    const double far = 4 * std::max(bounds.diagonal(), 1e-3);  // leaves the scene from anywhere
+    const double far = leavingLength(patches);
     if (!settings.pixelSides.empty() &&
         settings.pixelSides.size() != std::size_t(settings.width) * settings.height) {
         return Error{concat("final gather: ", settings.pixelSides.size(),

@@ -65,9 +65,13 @@ Expected<Image> renderRadiosityImage(const Session& session, const Camera& camer
         const std::vector<double>& b = session.displayRadiosity();
         std::vector<double> smooth =
             radiosityWithoutDirectLight(session.system(), session.transport(), b, *inView);
-        // What the patches emit themselves, in the image's channels (the near field's E_i / pi).
-        std::vector<float> emitted =
-            radiosityChannels(session.wavelengths(), ownEmission(session.system()), spectral);
+        // What the patches emit themselves, in the image's channels (the near field's E_i / pi),
+        // made before the near field so that the copy of E is gone by then.
+        std::vector<float> emitted;
+        if (mode == GatherMode::Near) {
+            emitted =
+                radiosityChannels(session.wavelengths(), ownEmission(session.system()), spectral);
+        }
         std::vector<double> weights;  // the patch areas (empty), or their exposed parts
         if (mode == GatherMode::Near) {
             Timer nearTimer;

@@ -276,6 +276,13 @@ double punctualPointFactor(const PunctualLight& light, const Vec3d& x, const Vec
     return g > 0 && std::isfinite(g) ? g : 0.0;
 }
 
+double leavingLength(const PatchMesh& patches) {
+    Bounds3d bounds;
+    for (const Vec3d& p : patches.positions)
+        bounds.extend(p);
+    return 4 * std::max(bounds.diagonal(), 1e-9);
+}
+
 Expected<LightGeometry> punctualLightGeometry(const PatchMesh& patches,
                                               const std::vector<PunctualLight>& lights) {
     LightGeometry geometry;
@@ -285,10 +292,7 @@ Expected<LightGeometry> punctualLightGeometry(const PatchMesh& patches,
     if (n == 0 || count == 0) return geometry;
     auto caster = makeRayCaster(patches);
     if (!caster) return withContext(caster.error(), "lights");
-    Bounds3d bounds;
-    for (const Vec3d& p : patches.positions)
-        bounds.extend(p);
-    const double far = 4 * std::max(bounds.diagonal(), 1e-9);
+    const double far = leavingLength(patches);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256), [&](const auto& range) {
         SegmentArrays segments;
         std::vector<uint8_t> blocked;

@@ -66,6 +66,10 @@ double punctualFalloff(const PunctualLight& light, double distance, double cosFr
 double punctualPointFactor(const PunctualLight& light, const Vec3d& x, const Vec3d& n, double far,
                            Vec3d& shadowEnd);
 
+// A length that leaves the scene of `patches` from anywhere in it: four times its bounds'
+// diagonal (the far end of a segment towards a directional light).
+double leavingLength(const PatchMesh& patches);
+
 // Per light, its irradiance spectrum at g = 1 on `set`: colour x intensity as an RGB emission
 // spectrum, or its own spectral emission times the intensity. Fails naming the light on a
 // spectrum that cannot be sampled.
