@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "radiosity/radiosity_system.h"
+#include "radiosity/transport.h"
 
 namespace daisy {
 
@@ -32,10 +33,20 @@ struct ExposedSystem {
 };
 
 // The exposed system for per-patch exposed shares `exposure` (in [0, 1]) and F's row sums.
-// Patches with phi = 0 (buried) or 1, or nothing to gather, keep their operator. Scales are
+// Patches with phi = 1, or nothing to gather, keep their operator; buried ones (phi = 0) reflect
+// nothing (the inner faces of a closed double-sided object would otherwise pass light between
+// itself and the buried part of a patch under it, whose exposed part's scale 1 / phi amplifies
+// it). Scales are
 // rounded up to 1/64 of phi, so at most 64 copies of an operator are made.
 ExposedSystem exposedSystem(const RadiositySystem& system, std::span<const float> exposure,
                             std::span<const double> rowSums);
+
+// The transport's row sums without the factors into buried patches (phi_j = 0): the inside of
+// a closed double-sided object is patches of its own, which a patch running under the object
+// sees from its buried part, so its row sums to about 1 where a single-sided object's leaves
+// phi_i. From the buried patches' own rows by reciprocity, F_ij = A_j F_ji / A_i.
+std::vector<double> unburiedRowSums(const Transport& transport, std::span<const double> areas,
+                                    std::span<const float> exposure);
 
 // B = E + phi (B' - E) in place (n x m), and its inverse.
 void exposedToWholePatch(const RadiositySystem& system, std::span<const double> phi,

@@ -18,7 +18,8 @@ using solvertest::makeSystem;
 
 TEST(ExposedSystem, ScalesOnlyPartlyExposedPatchesByTheirExposedShare) {
     // Patches: exposed, half exposed (row 0.4), a quarter exposed with row 0.6 (the probe's
-    // share under the row's: 0.6 rounds up to 39/64), buried, half exposed but black.
+    // share under the row's: 0.6 rounds up to 39/64), buried (reflects nothing), half exposed
+    // but black.
     RadiositySystem system = makeSystem(5, 1, {diagonalOperator({0.5}), diagonalOperator({0})});
     system.areas = {1, 2, 1, 1, 1};
     system.patchOperator = {0, 0, 0, 0, 1};
@@ -28,9 +29,10 @@ TEST(ExposedSystem, ScalesOnlyPartlyExposedPatchesByTheirExposedShare) {
     ASSERT_TRUE(exposed.changed);
     EXPECT_EQ(exposed.phi, (std::vector<double>{1, 0.5, 0.25, 1, 1}));
     const RadiositySystem& s = exposed.system;
-    EXPECT_EQ(s.operators.size(), 4u);  // the two originals, scales 2 and 64 / 39
+    EXPECT_EQ(s.operators.size(), 5u);  // the two originals, scales 2, 64 / 39 and 0
     EXPECT_EQ(s.patchOperator[0], 0u);
-    EXPECT_EQ(s.patchOperator[3], 0u);
+    EXPECT_TRUE(s.operators[s.patchOperator[3]].isZero);
+    EXPECT_DOUBLE_EQ(s.areas[3], 1.0);
     EXPECT_EQ(s.patchOperator[4], 1u);
     EXPECT_DOUBLE_EQ(s.operators[s.patchOperator[1]].diagonal[0], 1.0);
     EXPECT_DOUBLE_EQ(s.operators[s.patchOperator[2]].diagonal[0], 0.5 * 64 / 39);
@@ -49,8 +51,10 @@ TEST(ExposedSystem, ScalesOnlyPartlyExposedPatchesByTheirExposedShare) {
     EXPECT_EQ(b, (std::vector<double>{2, 3, 4, 5, 6}));
 }
 
-TEST(ExposedSystem, NothingChangesWithoutPartlyExposedPatches) {
-    const RadiositySystem system = makeSystem(2, 1, {diagonalOperator({0.5})});
+TEST(ExposedSystem, NothingChangesWithoutPartlyExposedOrBuriedReflectors) {
+    // Exposed, and buried but black.
+    RadiositySystem system = makeSystem(2, 1, {diagonalOperator({0.5}), diagonalOperator({0})});
+    system.patchOperator = {0, 1};
     const ExposedSystem exposed =
         exposedSystem(system, std::vector<float>{1.0f, 0.0f}, std::vector<double>{1.0, 0.0});
     EXPECT_FALSE(exposed.changed);
