@@ -73,7 +73,8 @@ namespace {
 
 // The patches' exposed parts (radiosity/exposed_system.h) for the system and transport in hand.
 void updateExposed(Session::State& s, const PatchExposure& exposure) {
-    s.exposed = exposedSystem(s.system, exposure.fraction, s.transport->rowSums());
+    s.exposed = exposedSystem(s.system, exposure.fraction,
+                              unburiedRowSums(*s.transport, s.system.areas, exposure.fraction));
     s.exposedReady = true;
 }
 
@@ -873,7 +874,21 @@ Expected<const PatchExposure*> Session::exposure() const {
     if (!s.exposure) {
         tbb::task_arena arena(s.settings.solver.threads > 0 ? s.settings.solver.threads
                                                             : tbb::task_arena::automatic);
-        auto probed = arena.execute([&] { return patchExposure(s.patches); });
+        // The patches that emit light of their own (E without the punctual lights' share).
+        const std::size_t m = s.system.wavelengthCount;
+        std::vector<uint8_t> emitters(s.patches.patchCount(), 0);
+        for (std::size_t e = 0; e < s.system.emission.size(); ++e) {
+            const double own = s.system.emission[e] -
+                (s.system.punctualEmission.empty() ? 0.0 : s.system.punctualEmission[e]);
+            if (own > 0) emitters[e / m] = 1;
+        }
+        std::vector<Vec3d> lightPositions;  // of the point and spot lights
+        for (const PunctualLight& light : s.scene.lights) {
+            if (light.type != PunctualLight::Type::Directional)
+                lightPositions.push_back(light.position);
+        }
+        auto probed =
+            arena.execute([&] { return patchExposure(s.patches, emitters, lightPositions); });
         if (!probed) return probed.error();
         s.exposure = std::move(*probed);
     }

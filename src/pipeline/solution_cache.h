@@ -20,8 +20,9 @@
 
 namespace daisy {
 
-// Bump when the key's byte stream, the file layout or SolutionStats change.
-inline constexpr uint32_t kSolutionCacheVersion = 1;
+// Bump when the key's byte stream, the file layout or SolutionStats change, or the rules of
+// the patches' exposed parts (radiosity/patch_exposure.h), which the solve answers for.
+inline constexpr uint32_t kSolutionCacheVersion = 2;
 
 // 128-bit key of exactly what a converged B depends on (hex() names the file).
 using SolutionKey = Hash128;

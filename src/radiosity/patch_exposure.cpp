@@ -9,6 +9,8 @@
 #include <cmath>
 
 #include "core/check.h"
+#include "core/disjoint_sets.h"
+#include "geometry/bounds.h"
 #include "geometry/shared_vec.h"
 #include "raycast/ray_caster.h"
 #include "shared/sampling.h"
@@ -18,7 +20,7 @@ namespace daisy {
 namespace {
 
 constexpr int kDivisions = 4;  // 4 x 4 = 16 children
-constexpr int kProbeRays = 5;
+constexpr int kProbeRays = 5;  // along the normal and four at 45 degrees
 
 // The 16 children in order: (a, b) on the grid of upward children (a + b <= 3), each followed
 // by the downward one beside it (a + b <= 2). A child's corners, as barycentric weights of the
@@ -70,7 +72,143 @@ shared::vec3 pointInPatchChild(shared::vec3 a, shared::vec3 b, shared::vec3 c, i
     return shared::uniformPointOnTriangle(at(ca, cb), at(ca + s, cb), at(ca, cb + s), u);
 }
 
-Expected<PatchExposure> patchExposure(const PatchMesh& patches) {
+namespace {
+
+// The probes from a point with normal n: along n, four 45 degrees from it, and four at 80
+// degrees between those (they leave from under a table).
+std::array<shared::vec3, kProbeRays + 4> probeDirections(const shared::vec3& n) {
+    shared::vec3 t1, t2;
+    shared::orthonormalBasis(n, t1, t2);
+    const float h = std::sqrt(0.5f);  // cos and sin of 45 degrees
+    const float c80 = std::cos(1.3962634f), s80 = std::sin(1.3962634f) * h;
+    return {n,
+            n * h + t1 * h,
+            n * h - t1 * h,
+            n * h + t2 * h,
+            n * h - t2 * h,
+            n * c80 + (t1 + t2) * s80,
+            n * c80 + (t1 - t2) * s80,
+            n * c80 - (t1 + t2) * s80,
+            n * c80 - (t1 - t2) * s80};
+}
+
+// A closed object may enclose a buried point only when it is at most this share of the scene's
+// size (bounding-box diagonals): a column's base or a cupboard, not a room whose walls and
+// ceiling were modelled as one closed mesh facing out.
+constexpr double kEnclosingShare = 0.5;
+
+// Per patch, its piece: the patches joined to it through shared vertices (a closed object's
+// faces, both sides of a double-sided surface), and per piece whether it is small enough to
+// enclose a buried point (kEnclosingShare).
+struct Pieces {
+    std::vector<uint32_t> of;  // per patch, its piece's smallest patch
+    std::vector<uint8_t> small;  // per piece (indexed by that patch)
+    std::vector<uint8_t> lit;  // per piece: it encloses a light (litPieces)
+    double sceneDiagonal = 0;
+
+    // The small piece whose authored back (the side its normal leaves from, single- or
+    // double-sided) a ray along d meets at `hit`; else kNoPatch.
+    uint32_t backFacing(const PatchMesh& patches, uint32_t hit, const shared::vec3& d) const {
+        if (hit == kNoPatch) return kNoPatch;
+        const uint32_t other = patches.backPatch[hit];
+        const Vec3d& m = patches.normals[other == kNoBackPatch ? hit : std::min(hit, other)];
+        const bool back = m.x * d.x + m.y * d.y + m.z * d.z > 0;
+        return back && small[of[hit]] ? of[hit] : kNoPatch;
+    }
+};
+
+Pieces connectedPieces(const PatchMesh& patches) {
+    const std::size_t n = patches.patchCount();
+    DisjointSets sets(n);
+    for (uint32_t v = 0; v < patches.vertexCount(); ++v) {
+        const std::span<const uint32_t> around = patches.patchesAtVertex(v);
+        for (std::size_t k = 1; k < around.size(); ++k)
+            sets.join(around[0], around[k]);
+    }
+    Pieces pieces;
+    pieces.of.resize(n);
+    std::vector<Bounds3d> bounds(n);
+    Bounds3d scene;
+    for (uint32_t p = 0; p < n; ++p) {
+        pieces.of[p] = sets.find(p);
+        for (const uint32_t c : patches.patches[p]) {
+            bounds[pieces.of[p]].extend(patches.positions[c]);
+            scene.extend(patches.positions[c]);
+        }
+    }
+    pieces.sceneDiagonal = scene.diagonal();
+    pieces.small.assign(n, 0);
+    for (uint32_t p = 0; p < n; ++p)
+        pieces.small[p] = bounds[p].diagonal() <= kEnclosingShare * scene.diagonal();
+    pieces.lit.assign(n, 0);
+    return pieces;
+}
+
+// The piece that encloses `origin`: at least 3/4 of the rays from it along `directions` meet
+// that piece's authored back and none another small piece's (the rest may meet a face lying on
+// one of its faces, a floor under a box's bottom, first); or kNoPatch.
+uint32_t enclosingPiece(const RayCaster& tracer, const PatchMesh& patches, const Pieces& pieces,
+                        const shared::vec3& origin, std::span<const shared::vec3> directions,
+                        float margin) {
+    std::array<Ray, 16> rays{};
+    std::array<SurfaceHit, 16> hits{};
+    DAISY_CHECK(directions.size() <= rays.size());
+    for (std::size_t k = 0; k < directions.size(); ++k) {
+        const shared::vec3& d = directions[k];
+        rays[k] = {{origin.x, origin.y, origin.z}, {d.x, d.y, d.z}};
+    }
+    tracer.closestSurfaceHits({rays.data(), directions.size()}, {hits.data(), directions.size()},
+                              margin);
+    uint32_t piece = kNoPatch;
+    std::size_t count = 0;
+    for (std::size_t k = 0; k < directions.size(); ++k) {
+        const uint32_t hit = pieces.backFacing(patches, hits[k].patch, directions[k]);
+        if (hit == kNoPatch) continue;
+        if (piece != kNoPatch && hit != piece) return kNoPatch;
+        piece = hit;
+        ++count;
+    }
+    return 4 * count >= 3 * directions.size() ? piece : kNoPatch;
+}
+
+// Marks the pieces that enclose a light, which light their insides: an emitting patch's
+// centroid (probes along its normal, 45 and 80 degrees from it: a lamp's bulb under its shade)
+// or a point or spot light's position (14 probes all round).
+void litPieces(const RayCaster& tracer, const PatchMesh& patches, std::span<const uint8_t> emitters,
+               std::span<const Vec3d> lightPositions, Pieces& pieces) {
+    const double size = std::max(1e-30, pieces.sceneDiagonal);
+    const float margin = float(1e-6 * size);
+    std::vector<uint32_t> enclosing(patches.patchCount(), kNoPatch);
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, emitters.size(), 64), [&](const auto& range) {
+            for (std::size_t p = range.begin(); p != range.end(); ++p) {
+                if (!emitters[p]) continue;
+                const auto directions = probeDirections(toVec3(patches.normals[p]));
+                enclosing[p] = enclosingPiece(tracer, patches, pieces, toVec3(patches.centroids[p]),
+                                              directions, margin);
+            }
+        });
+    for (const uint32_t piece : enclosing)
+        if (piece != kNoPatch) pieces.lit[piece] = 1;
+    // 14 directions spread over the sphere (a Fibonacci lattice: none along the axes or a box's
+    // diagonals, where it would meet edges and corners).
+    std::array<shared::vec3, 14> around{};
+    for (std::size_t k = 0; k < around.size(); ++k) {
+        const float z = 1 - (2 * float(k) + 1) / float(around.size());
+        const float r = std::sqrt(1 - z * z), phi = 2.399963f * float(k);  // the golden angle
+        around[k] = shared::vec3(r * std::cos(phi), r * std::sin(phi), z);
+    }
+    for (const Vec3d& light : lightPositions) {
+        const uint32_t piece =
+            enclosingPiece(tracer, patches, pieces, toVec3(light), around, margin);
+        if (piece != kNoPatch) pieces.lit[piece] = 1;
+    }
+}
+
+}  // namespace
+
+Expected<PatchExposure> patchExposure(const PatchMesh& patches, std::span<const uint8_t> emitters,
+                                      std::span<const Vec3d> lightPositions) {
     const std::size_t n = patches.patchCount();
     PatchExposure exposure;
     exposure.fraction.assign(n, 1.0f);
@@ -79,21 +217,23 @@ Expected<PatchExposure> patchExposure(const PatchMesh& patches) {
     auto caster = makeRayCaster(patches, {.packetMode = PacketMode::Packet16, .robust = true});
     if (!caster) return withContext(caster.error(), "patch exposure");
     const RayCaster& tracer = **caster;
+    Pieces pieces = connectedPieces(patches);
+    litPieces(tracer, patches, emitters, lightPositions, pieces);
+    std::vector<uint32_t> burier(n, kNoPatch);  // per patch: a piece burying a point of it
+    constexpr uint32_t kOpen = kNoPatch;  // a probe that shows the point is not enclosed
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 64), [&](const auto& range) {
         std::array<Ray, kPatchQuadraturePoints * kProbeRays> rays{};
         std::array<SurfaceHit, kPatchQuadraturePoints * kProbeRays> hits{};
         std::array<int, kPatchQuadraturePoints> pending{};
+        std::array<uint32_t, kPatchQuadraturePoints> enclosing{};
+        std::array<uint8_t, kPatchQuadraturePoints> singleSidedSoFar{};
         for (std::size_t p = range.begin(); p != range.end(); ++p) {
             const auto& c = patches.patches[p];
             const shared::PatchGeometry t = shared::makePatchGeometry(
                 toVec3(patches.positions[c[0]]), toVec3(patches.positions[c[1]]),
                 toVec3(patches.positions[c[2]]));
             const shared::vec3 n0 = toVec3(patches.normals[p]);
-            shared::vec3 t1, t2;
-            shared::orthonormalBasis(n0, t1, t2);
-            const float h = std::sqrt(0.5f);  // cos and sin of 45 degrees
-            const std::array<shared::vec3, kProbeRays> directions = {
-                n0, n0 * h + t1 * h, n0 * h - t1 * h, n0 * h + t2 * h, n0 * h - t2 * h};
+            const auto directions = probeDirections(n0);
             std::array<shared::vec3, kPatchQuadraturePoints> points;
             for (int q = 0; q < kPatchQuadraturePoints; ++q)
                 points[std::size_t(q)] = patchQuadraturePoint(t, q);
@@ -110,8 +250,17 @@ Expected<PatchExposure> patchExposure(const PatchMesh& patches) {
                 const Vec3d& m = patches.normals[hit.patch];
                 return m.x * d.x + m.y * d.y + m.z * d.z > 0;
             };
-            // A point is buried when all its probes meet back faces. The one along the normal
-            // settles most points (open): the other four go only from those it does not.
+            const bool emits = !emitters.empty() && emitters[p];
+            const auto enclosedBy = [&](const SurfaceHit& hit, const shared::vec3& d) {
+                const uint32_t piece = pieces.backFacing(patches, hit.patch, d);
+                return emits || piece == kOpen || pieces.lit[piece] ? kOpen : piece;
+            };
+            // A point is buried when all its probes meet back faces: of single-sided surfaces
+            // (inside a closed object), or the authored backs of one small piece of surfaces
+            // (inside a closed double-sided object, such as a column's base on the floor, which
+            // the point sees from within). The probe along the normal settles most points
+            // (open): the other four go only from those it does not, and the four at 80
+            // degrees only from points still enclosed by one piece.
             for (int q = 0; q < kPatchQuadraturePoints; ++q) {
                 const shared::vec3 x = points[std::size_t(q)];
                 rays[std::size_t(q)] = {{x.x, x.y, x.z}, {n0.x, n0.y, n0.z}};
@@ -121,35 +270,70 @@ Expected<PatchExposure> patchExposure(const PatchMesh& patches) {
             uint16_t mask = 0;
             int count = 0;
             for (int q = 0; q < kPatchQuadraturePoints; ++q) {
-                if (backOnly(hits[std::size_t(q)], n0)) {
+                const SurfaceHit& hit = hits[std::size_t(q)];
+                const uint32_t piece = enclosedBy(hit, n0);
+                const bool singleSided = backOnly(hit, n0);
+                if (singleSided || piece != kOpen) {
+                    enclosing[std::size_t(count)] = piece;
+                    singleSidedSoFar[std::size_t(count)] = singleSided;
                     pending[std::size_t(count++)] = q;
                 } else {
                     mask = uint16_t(mask | (1u << q));
                 }
             }
-            if (count > 0) {
+            // Probes in directions [first, last) from the pending points; keeps those whose
+            // probes all meet the back faces above, and opens the others.
+            const auto probe = [&](int first, int last) {
                 std::size_t k = 0;
                 for (int j = 0; j < count; ++j) {
                     const shared::vec3 x = points[std::size_t(pending[std::size_t(j)])];
-                    for (int r = 1; r < kProbeRays; ++r) {
+                    for (int r = first; r < last; ++r) {
                         const shared::vec3 d = directions[std::size_t(r)];
                         rays[k++] = {{x.x, x.y, x.z}, {d.x, d.y, d.z}};
                     }
                 }
                 tracer.closestSurfaceHits({rays.data(), k}, {hits.data(), k}, margin);
+                int kept = 0;
                 for (int j = 0; j < count; ++j) {
-                    bool buried = true;
-                    for (int r = 1; r < kProbeRays && buried; ++r) {
-                        buried = backOnly(hits[std::size_t(j * (kProbeRays - 1) + r - 1)],
-                                          directions[std::size_t(r)]);
+                    bool singleSided = singleSidedSoFar[std::size_t(j)] != 0;
+                    bool enclosed = enclosing[std::size_t(j)] != kOpen;
+                    for (int r = first; r < last; ++r) {
+                        const SurfaceHit& hit = hits[std::size_t(j * (last - first) + r - first)];
+                        const shared::vec3 d = directions[std::size_t(r)];
+                        singleSided = singleSided && backOnly(hit, d);
+                        enclosed = enclosed && enclosedBy(hit, d) == enclosing[std::size_t(j)];
                     }
-                    if (!buried) mask = uint16_t(mask | (1u << pending[std::size_t(j)]));
+                    if (singleSided) continue;  // buried inside a single-sided closed object
+                    if (enclosed) {
+                        pending[std::size_t(kept)] = pending[std::size_t(j)];
+                        singleSidedSoFar[std::size_t(kept)] = 0;  // the 80-degree probes: pieces
+                        enclosing[std::size_t(kept++)] = enclosing[std::size_t(j)];
+                    } else {
+                        mask = uint16_t(mask | (1u << pending[std::size_t(j)]));
+                    }
                 }
-            }
+                count = kept;
+            };
+            if (count > 0) probe(1, kProbeRays);
+            if (count > 0) probe(kProbeRays, kProbeRays + 4);
+            if (count > 0) burier[p] = enclosing[0];
             exposure.exposedPoints[p] = mask;
             exposure.fraction[p] = float(std::popcount(unsigned(mask))) / kPatchQuadraturePoints;
         }
     });
+    // The inner faces of a piece that buries a point (the back patches of its double-sided
+    // faces, facing its inside) are buried too: no light reaches them, and a patch running
+    // under the piece sees them from its buried part only (exposed_system.h: unburiedRowSums).
+    std::vector<uint8_t> encloses(n, 0);
+    for (const uint32_t piece : burier)
+        if (piece != kOpen) encloses[piece] = 1;
+    for (std::size_t p = 0; p < n; ++p) {
+        const uint32_t front = patches.backPatch[p];
+        if (front != kNoBackPatch && front < p && encloses[pieces.of[p]]) {
+            exposure.exposedPoints[p] = 0;
+            exposure.fraction[p] = 0;
+        }
+    }
     return exposure;
 }
 

@@ -6,10 +6,20 @@
 // exposed part's value times phi_i; the gather divides it back, and the smooth image weights
 // vertex means by exposed area so fully buried patches do not blacken the block's base.
 //
-// A point counts as buried when all five probe rays from it (along the patch normal and four
-// tilted 45 degrees from it) hit the back of a single-sided surface: it is inside a closed
-// object. phi_i is the exposed share of the 16 equal-area points patchQuadraturePoint gives.
+// A point counts as buried when it is inside a closed object: all five probe rays from it
+// (along the patch normal and four tilted 45 degrees from it) hit the back of a single-sided
+// surface, or those five and four more at 80 degrees all hit the authored back (the side its
+// normal leaves from) of one small piece of connected surfaces (patches joined by shared
+// vertices): a closed double-sided object, such as a column's base standing on a floor, seen
+// from within (Blender writes every material double-sided, so a closed object's faces have no
+// back to tell). Such a piece's own inner faces (its back patches) are buried with it. A piece
+// over half the scene's size (a room's shell modelled facing out) never buries; nor does one
+// that encloses a light (a point or spot light, or an emitting patch's centroid: a lamp's shade
+// over its bulb); nor is an emitting patch's own point buried by a piece. The 80-degree probes
+// leave from under a table.
+// phi_i is the exposed share of the 16 equal-area points patchQuadraturePoint gives.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/expected.h"
@@ -35,10 +45,14 @@ struct PatchExposure {
     std::vector<uint16_t> exposedPoints;  // per patch: bit q set when point q is exposed
 };
 
-// Probes every patch's 16 points, in parallel: 16 rays a patch along its normal, and the four
-// tilted ones only from the points those leave unsettled. Fails (no crash) when the ray caster
-// cannot build the scene.
-Expected<PatchExposure> patchExposure(const PatchMesh& patches);
+// Probes every patch's 16 points, in parallel: 16 rays a patch along its normal, the four
+// tilted ones only from the points those leave unsettled, the four at 80 degrees only from
+// points then still enclosed by one piece. `emitters`: per patch, 1 when it emits light of its
+// own (empty: none); `lightPositions`: the point and spot lights'. Fails (no crash) when the
+// ray caster cannot build the scene.
+Expected<PatchExposure> patchExposure(const PatchMesh& patches,
+                                      std::span<const uint8_t> emitters = {},
+                                      std::span<const Vec3d> lightPositions = {});
 
 // Per patch, its area times phi: the area weights of the smooth image's vertex means
 // (vertex_radiance.h), so fully buried patches do not darken the exposed ones at a shared vertex.
