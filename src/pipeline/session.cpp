@@ -874,14 +874,7 @@ Expected<const PatchExposure*> Session::exposure() const {
     if (!s.exposure) {
         tbb::task_arena arena(s.settings.solver.threads > 0 ? s.settings.solver.threads
                                                             : tbb::task_arena::automatic);
-        // The patches that emit light of their own (E without the punctual lights' share).
-        const std::size_t m = s.system.wavelengthCount;
-        std::vector<uint8_t> emitters(s.patches.patchCount(), 0);
-        for (std::size_t e = 0; e < s.system.emission.size(); ++e) {
-            const double own = s.system.emission[e] -
-                (s.system.punctualEmission.empty() ? 0.0 : s.system.punctualEmission[e]);
-            if (own > 0) emitters[e / m] = 1;
-        }
+        const std::vector<uint8_t> emitters = s.system.ownEmitters();
         std::vector<Vec3d> lightPositions;  // of the point and spot lights
         for (const PunctualLight& light : s.scene.lights) {
             if (light.type != PunctualLight::Type::Directional)

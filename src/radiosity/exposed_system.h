@@ -34,10 +34,9 @@ struct ExposedSystem {
 
 // The exposed system for per-patch exposed shares `exposure` (in [0, 1]) and F's row sums.
 // Patches with phi = 1, or nothing to gather, keep their operator; buried ones (phi = 0) reflect
-// nothing (the inner faces of a closed double-sided object would otherwise pass light between
-// itself and the buried part of a patch under it, whose exposed part's scale 1 / phi amplifies
-// it). Scales are
-// rounded up to 1/64 of phi, so at most 64 copies of an operator are made.
+// nothing (the inner faces of a closed double-sided object would otherwise pass light to and
+// fro with the buried part of a patch under it, whose exposed scale 1 / phi amplifies it).
+// Scales are rounded up to 1/64 of phi, so at most 64 copies of an operator are made.
 ExposedSystem exposedSystem(const RadiositySystem& system, std::span<const float> exposure,
                             std::span<const double> rowSums);
 

@@ -10,6 +10,15 @@
 
 namespace daisy {
 
+std::vector<uint8_t> RadiositySystem::ownEmitters() const {
+    std::vector<uint8_t> emits(patchCount, 0);
+    for (std::size_t e = 0; e < emission.size(); ++e) {
+        const double own = emission[e] - (punctualEmission.empty() ? 0.0 : punctualEmission[e]);
+        if (own > 0) emits[e / wavelengthCount] = 1;
+    }
+    return emits;
+}
+
 bool RadiositySystem::hasFluorescence() const {
     return std::any_of(operators.begin(), operators.end(),
                        [](const MaterialOperator& op) { return !op.isDiagonal; });

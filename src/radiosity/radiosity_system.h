@@ -43,6 +43,8 @@ struct RadiositySystem {
     std::vector<MaterialOperator> operators;
 
     bool hasFluorescence() const;  // any operator with off-diagonal entries
+    // Per patch, 1 when it emits light of its own: E beyond the punctual lights' share.
+    std::vector<uint8_t> ownEmitters() const;
     const double* emissionRow(uint32_t patch) const {
         return emission.data() + patch * wavelengthCount;
     }
