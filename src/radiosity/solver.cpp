@@ -29,6 +29,10 @@ constexpr uint32_t kRowGrain = 8;
 // Targets per parallel task of one Southwell shot.
 constexpr std::size_t kShotGrain = 512;
 constexpr std::size_t kHugePage = std::size_t(2) << 20;
+// Extrapolation (see solver.h): a wavelength's contraction ratio counts as settled when its
+// last two ratios differ by at most this share of 1 - ratio, so that the extrapolation factor
+// ratio / (1 - ratio) is known to about this share.
+constexpr double kSettledRatio = 0.1;
 
 // A_i sum_k w_k |x_k|.
 double rowPower(const RadiositySystem& system, uint32_t row, const double* x) {
@@ -173,6 +177,14 @@ private:
     }
     double jacobiIteration();
     double gaussSeidelIteration();
+    // delta_'s row i = next - last (Gauss-Seidel's extrapolation).
+    void recordDelta(uint32_t i, const double* next, const double* last) {
+        if (delta_.empty()) return;
+        float* d = delta_.data() + std::size_t(i) * m_;
+        for (std::size_t k = 0; k < m_; ++k)
+            d[k] = static_cast<float>(next[k] - last[k]);
+    }
+    bool extrapolate();
     double southwellIteration();
     bool cancelRequested() {
         cancelled_ = cancelled_ || isCancelled(settings_.cancel);
@@ -193,6 +205,12 @@ private:
     std::vector<uint8_t> active_;  // rows that gather: non-zero operator and a non-empty F row
     std::vector<double> b_, next_, g_, rowChange_;
     std::vector<double> far_;  // the far part of T B (settings_.farGather), n x m; else empty
+    // Extrapolation (Gauss-Seidel): the last sweep's B^k - B^(k-1) (n x m), and per
+    // wavelength the last sweep's change sum_i A_i |delta_i| and contraction ratio (< 0: none
+    // yet), and how many sweeps since the start or the last extrapolation were measured.
+    std::vector<float> delta_;
+    std::vector<double> waveChange_, waveRatio_;
+    int measuredSweeps_ = 0;
     // Gauss-Seidel: per row of the current block, its in-block entry range; one row's new B.
     std::vector<std::array<uint64_t, 2>> inBlock_;
     std::vector<double> scratch_;
@@ -261,11 +279,55 @@ double Solver::gaussSeidelIteration() {
             double* row = rowOf(b_, i);
             applyOperator(op(i), g, scratch_.data(), system_.emissionRow(i));
             rowChange_[i] = rowPowerOfDifference(system_, i, scratch_.data(), row);
+            recordDelta(i, scratch_.data(), row);
             std::copy(scratch_.begin(), scratch_.end(), row);
             refreshMirror(i, i + 1);
         }
     }
     return sequentialSum(rowChange_);
+}
+
+// After a sweep: per wavelength, its change and contraction ratio; where the ratio r has
+// settled (kSettledRatio), B += delta r / (1 - r) for that wavelength, the rest of the
+// geometric series the sweeps would add if every later change were r times the one before.
+// Returns whether B moved; the changes of the next sweep then start a new series.
+bool Solver::extrapolate() {
+    const uint32_t n = system_.patchCount;
+    std::vector<double> change(m_, 0.0);
+    for (uint32_t i = 0; i < n; ++i) {
+        if (!active_[i]) continue;
+        const float* d = delta_.data() + std::size_t(i) * m_;
+        for (std::size_t k = 0; k < m_; ++k)
+            change[k] += system_.areas[i] * std::abs(double(d[k]));
+    }
+    std::vector<double> factor(m_, 0.0);
+    bool any = false;
+    for (std::size_t k = 0; k < m_; ++k) {
+        const double ratio =
+            measuredSweeps_ >= 1 && waveChange_[k] > 0 ? change[k] / waveChange_[k] : -1;
+        if (measuredSweeps_ >= 2 && ratio > 0 && ratio < 1 && waveRatio_[k] > 0 &&
+            std::abs(ratio - waveRatio_[k]) <= kSettledRatio * (1 - ratio)) {
+            factor[k] = ratio / (1 - ratio);
+            any = true;
+        }
+        waveRatio_[k] = ratio;
+        waveChange_[k] = change[k];
+    }
+    ++measuredSweeps_;
+    if (!any) return false;
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, 1024),
+                      [&](const tbb::blocked_range<uint32_t>& range) {
+                          for (uint32_t i = range.begin(); i != range.end(); ++i) {
+                              if (!active_[i]) continue;
+                              double* b = rowOf(b_, i);
+                              const float* d = delta_.data() + std::size_t(i) * m_;
+                              for (std::size_t k = 0; k < m_; ++k)
+                                  b[k] += factor[k] * double(d[k]);
+                          }
+                      });
+    refreshMirror(0, n);
+    measuredSweeps_ = 0;
+    return true;
 }
 
 // patchCount shots, each from the patch with the most unshot power (ties: lowest index).
@@ -352,6 +414,11 @@ Expected<SolverResult> Solver::run() {
                    risk.description, ")")};
     }
 
+    if (settings_.kind == SolverKind::GaussSeidel) {
+        delta_.assign(std::size_t(n) * m_, 0.0f);
+        waveChange_.assign(m_, 0.0);
+        waveRatio_.assign(m_, -1.0);
+    }
     switch (settings_.kind) {
         case SolverKind::Jacobi:
             next_ = b_;
@@ -410,6 +477,7 @@ Expected<SolverResult> Solver::run() {
     }
     double previousChange = INFINITY;
     int growing = 0;
+    bool extrapolated = false;  // B moved by extrapolate() after the last sweep
     for (int iteration = 1; !haveResidual && iteration <= settings_.maxIterations; ++iteration) {
         if (cancelRequested()) break;
         double change = 0;
@@ -446,7 +514,8 @@ Expected<SolverResult> Solver::run() {
         // The residual of the new iterate is about the change times the per-iteration
         // contraction (exactly so for Jacobi, whose change is the last iterate's residual):
         // only then is the true residual worth its gather.
-        const double ratio = result.changeHistory.size() > 1
+        // (Not across an extrapolation, which moved B between the two changes.)
+        const double ratio = result.changeHistory.size() > 1 && !extrapolated
             ? std::min(1.0, relative / result.changeHistory.end()[-2])
             : 1.0;
         if (relative * ratio <= settings_.tolerance || iteration == settings_.maxIterations) {
@@ -455,6 +524,7 @@ Expected<SolverResult> Solver::run() {
             if (result.converged) break;
             if (iteration < settings_.maxIterations) haveResidual = false;
         }
+        extrapolated = !delta_.empty() && iteration < settings_.maxIterations && extrapolate();
     }
     if (cancelled_) {
         // Stop at once: no final gather. The residual reported is the last change estimate.

@@ -11,6 +11,14 @@
 //   (Cohen & Wallace chapter 5). Parallel and exact: rows are taken in fixed blocks; the
 //   part of a block's gathers that reads other blocks (earlier blocks: this sweep's values,
 //   later ones: the last sweep's) runs in parallel, the in-block remainder row by row.
+//   Extrapolated: once a wavelength's changes shrink by a settled ratio r from sweep to sweep
+//   (the error then lies along the iteration's dominant eigenvector, and each later sweep would
+//   add r times the last change), the rest of that geometric series, delta r / (1 - r), is
+//   added at once (Aitken's extrapolation, per wavelength; the "ambient term" of Cohen et al.
+//   1988, below, rests on the same estimate). The stopping rule below is unchanged: the answer
+//   still meets the tolerance on its true residual. Measured: the hierarchical transport,
+//   whose far links are swept as in Jacobi, 13 -> 7-8 sweeps; a white furnace of reflectance
+//   0.99 in a cube, 952 -> 22. Jacobi is not extrapolated: its iterate k stays the k-bounce sum.
 // - southwell: progressive shooting of the largest unshot power (Cohen et al. 1988, "A
 //   progressive refinement approach to fast radiosity image generation", SIGGRAPH), one
 //   iteration = patchCount shots. Uses the transpose of F (column access).

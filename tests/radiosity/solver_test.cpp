@@ -132,8 +132,11 @@ TEST(Solver, ThreeSolversAgreeAndGaussSeidelIsFastest) {
     const SolverResult gs = solveOk(f, system, SolverKind::GaussSeidel, 1e-10);
     const SolverResult jacobi = solveOk(f, system, SolverKind::Jacobi, 1e-10);
     const SolverResult southwell = solveOk(f, system, SolverKind::Southwell, 1e-10);
-    EXPECT_LT(maxRelativeDifference(jacobi.radiosity, gs.radiosity), 1e-8);
-    EXPECT_LT(maxRelativeDifference(southwell.radiosity, gs.radiosity), 1e-8);
+    // The residual 1e-10 bounds each answer's error by about 1e-10 / (1 - 0.9) in the power
+    // norm; single entries (some dim) move by more.
+    const SolverResult exact = solveOk(f, system, SolverKind::Jacobi, 1e-14);
+    for (const SolverResult* result : {&gs, &jacobi, &southwell})
+        EXPECT_LT(maxRelativeDifference(result->radiosity, exact.radiosity), 2e-8);
     EXPECT_LT(gs.iterations, jacobi.iterations);
 }
 
@@ -163,6 +166,26 @@ TEST(Solver, OneSweepIsTheTextbookGaussSeidelSweep) {
         }
     }
     EXPECT_LT(maxRelativeDifference(result->radiosity, b), 1e-13);
+}
+
+// Gauss-Seidel adds the rest of the geometric series once its changes shrink by a settled
+// ratio: a white furnace of reflectance 0.99 in a closed cube, whose error shrinks by about rho
+// a sweep (Jacobi's sweeps, which are not extrapolated, need thousands), converges in a few
+// dozen sweeps, to its exact solution E / (1 - rho).
+TEST(Solver, GaussSeidelExtrapolatesTheGeometricTail) {
+    PatchMesh patches;
+    const SparseMatrix f = cubeFormFactors(patches);
+    const double rho = 0.99;
+    RadiositySystem system = makeSystem(f.size, 1, {diagonalOperator({rho})});
+    system.areas = patches.areas;
+    std::fill(system.emission.begin(), system.emission.end(), 1.0);
+    const SolverResult jacobi = solveOk(f, system, SolverKind::Jacobi, 1e-10);
+    EXPECT_GT(jacobi.iterations, 1000);
+    const SolverResult gs = solveOk(f, system, SolverKind::GaussSeidel, 1e-10);
+    EXPECT_TRUE(gs.converged);
+    EXPECT_LT(gs.iterations, 40);
+    for (double b : gs.radiosity)
+        EXPECT_NEAR(b, 1 / (1 - rho), 1e-3 / (1 - rho));
 }
 
 // Jacobi from B^0 = E: B^k = E + M F B^(k-1) = sum_{b=0..k} (M F)^b E, the k-bounce Neumann sum.
