@@ -290,7 +290,7 @@ private:
             for (const uint32_t l : seen)
                 batch_.points.push_back({x, &receiver_, &lights_[l].geometry});
             values_.resize(seen.size());
-            pointToTriangleFactors(batch_, values_.data());
+            pointToTriangleFactors(batch_.points, values_.data());
             std::fill(factor_.begin(), factor_.end(), 0.0f);
             for (std::size_t k = 0; k < seen.size(); ++k)
                 factor_[seen[k]] = values_[k];

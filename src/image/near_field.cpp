@@ -310,7 +310,7 @@ NearField NearField::build(const PatchMesh& patches, const RadiositySystem& syst
                     batch.points.push_back({x[k], &gi, &geometry[j]});
             }
             factors.resize(batch.points.size());
-            pointToTriangleFactors(batch, factors.data());
+            pointToTriangleFactors(batch.points, factors.data());
             // w(|x - c_j|) F(x -> j) at the points, per candidate; the patch is gathered exactly
             // per sample when the lattice cannot follow one of them (kLatticeTolerance).
             weighted.resize(candidates.size() * kPoints);
@@ -479,7 +479,7 @@ double NearField::addIrradiance(uint32_t patch, float u, float v,
         for (uint32_t e = 0; e < count; ++e)
             batch.points[e] = {x, &gi, &geometry_[exact_[first + e].patch]};
         factors.resize(count);
-        pointToTriangleFactors(batch, factors.data());
+        pointToTriangleFactors(batch.points, factors.data());
         for (uint32_t e = 0; e < count; ++e) {
             const uint32_t j = exact_[first + e].patch;
             const double w =

@@ -1,6 +1,7 @@
 #include "radiosity/hybrid_far_field.h"
 
 #include "core/cpu_isa.h"
+#include "radiosity/hybrid_near_cells.h"
 #include "shared/config.h"
 #include "shared/formfactor.h"
 
@@ -87,16 +88,17 @@ template <int W>
 // it keeps the whole triangle; other lanes call the shared function) and Lambert's contour sum of
 // shared::pointToPolygonFactor. Lanes are assembled from scalar loads.
 template <int W>
-[[gnu::always_inline]] inline void pointToTriangleFactorsOf(const FarFieldScratch& s, float* out) {
+[[gnu::always_inline]] inline void pointToTriangleFactorsOf(
+    std::span<const FarFieldScratch::Point> points, float* out) {
     using I = typename Lanes<W>::I;
     using F = typename Lanes<W>::F;
-    const int count = int(s.points.size());
+    const int count = int(points.size());
     const float eps2 = shared::planeEpsilon(1.0f) * shared::planeEpsilon(1.0f);
     const F zero = F{};
     for (int first = 0; first < count; first += W) {
         const FarFieldScratch::Point* q[W];
         for (int k = 0; k < W; ++k)
-            q[k] = &s.points[first + k < count ? first + k : count - 1];
+            q[k] = &points[first + k < count ? first + k : count - 1];
         F px, py, pz, nx, ny, nz, tnx, tny, tnz, cx[3], cy[3], cz[3];
         for (int k = 0; k < W; ++k) {
             const PatchGeometry& t = *q[k]->target;
@@ -150,21 +152,21 @@ template <int W>
     }
 }
 
-void pointToTriangleFactorsSse(const FarFieldScratch& s, float* out) {
-    pointToTriangleFactorsOf<4>(s, out);
+void pointToTriangleFactorsSse(std::span<const FarFieldScratch::Point> points, float* out) {
+    pointToTriangleFactorsOf<4>(points, out);
 }
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-__attribute__((target("avx2"))) void pointToTriangleFactorsAvx2(const FarFieldScratch& s,
-                                                                float* out) {
-    pointToTriangleFactorsOf<8>(s, out);
+__attribute__((target("avx2"))) void pointToTriangleFactorsAvx2(
+    std::span<const FarFieldScratch::Point> points, float* out) {
+    pointToTriangleFactorsOf<8>(points, out);
 }
 
 // AVX-512 has fused multiply-add, which GCC would contract a * b + c into (one rounding where
 // the shared kernel has two): this file is compiled with -ffp-contract=off (CMakeLists.txt).
-__attribute__((target("avx512f"))) void pointToTriangleFactorsAvx512(const FarFieldScratch& s,
-                                                                     float* out) {
-    pointToTriangleFactorsOf<16>(s, out);
+__attribute__((target("avx512f"))) void pointToTriangleFactorsAvx512(
+    std::span<const FarFieldScratch::Point> points, float* out) {
+    pointToTriangleFactorsOf<16>(points, out);
 }
 #endif
 
@@ -282,13 +284,12 @@ void hybridPairFactors(int level, std::span<const PatchGeometry> geometry,
         if (!(testFacing && shared::facingAway(first, second))) {
             planned =
                 planHybridPair(l, first, second, patches[firstIndex], patches[secondIndex], s);
-            if (!planned)
-                direct = shared::hybridPairFactorWithin(l, first, second, true, relativeTolerance);
+            if (!planned) direct = hybridNearPairFactor(l, first, second, relativeTolerance, s);
         }
         s.pairs.push_back({planned ? uint32_t(s.cells.size()) : kNotPlanned, direct});
     }
     s.values.resize(s.points.size());
-    pointToTriangleFactors(s, s.values.data());
+    pointToTriangleFactors(s.points, s.values.data());
     uint32_t cell = 0;
     std::size_t point = 0;
     for (std::size_t k = 0; k < pairs.size(); ++k) {
@@ -337,18 +338,18 @@ shared::PairFactors onePair(int method, int level, const PatchGeometry& i, const
 }  // namespace
 
 // The widest of the above that cpuIsa() allows (core/cpu_isa.h: DAISY_ISA picks a narrower one).
-void pointToTriangleFactors(const FarFieldScratch& s, float* out) {
+void pointToTriangleFactors(std::span<const FarFieldScratch::Point> points, float* out) {
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
     if (cpuIsa() == CpuIsa::Avx512) {
-        pointToTriangleFactorsAvx512(s, out);
+        pointToTriangleFactorsAvx512(points, out);
         return;
     }
     if (cpuIsa() == CpuIsa::Avx2) {
-        pointToTriangleFactorsAvx2(s, out);
+        pointToTriangleFactorsAvx2(points, out);
         return;
     }
 #endif
-    pointToTriangleFactorsSse(s, out);
+    pointToTriangleFactorsSse(points, out);
 }
 
 shared::PairFactors pairFactorsCpu(int method, int level, const PatchGeometry& i,

@@ -6,8 +6,9 @@
 // is one cell; at the default L = 1 most pairs of a room), the pair's points join a batch whose
 // point-to-triangle factors are evaluated in SIMD lanes, each lane with its own pair, by the same
 // operations in the same order as the shared kernel, so every result is bit-identical to it
-// (checked by tests/radiosity/hybrid_far_field_test.cpp). Points whose view of j must be clipped,
-// pairs with a near cell, levels above 2 and the other methods are the shared kernel itself.
+// (checked by tests/radiosity/hybrid_far_field_test.cpp). Points whose view of j must be clipped
+// and the other methods are the shared kernel itself; pairs with a near cell and levels above 2
+// are the hybrid rule of hybrid_near_cells.h, its points also in lanes.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -36,6 +37,18 @@ struct FarFieldScratch {
     std::vector<float> values;  // per point: the point-to-triangle factor
     std::vector<Cell> cells;
     std::vector<Pair> pairs;
+    // hybridNearPairFactor's (hybrid_near_cells.h): the points of one batch and their values,
+    // and the cells of the rule's prologue.
+    struct PrologueCell {
+        float share;  // the cell's area over A_i
+        uint32_t code;  // its path from the root (shared::cellCorners)
+        uint8_t root;  // which triangle of i's clipped piece
+        uint8_t points;  // 1 (far), 3 (middle or near)
+        bool near;  // listed for refinement
+    };
+    std::vector<Point> nearPoints;
+    std::vector<float> nearValues;
+    std::vector<PrologueCell> nearCells;
 };
 
 // What the far-field planner needs of a whole patch, computed once by the shared kernel's own
@@ -54,9 +67,9 @@ struct FarFieldPatch {
 std::vector<FarFieldPatch> farFieldPatches(std::span<const shared::PatchGeometry> geometry);
 
 // out[k] = shared::pointToTriangleFactor(p.position, p.receiver->normal, *p.target) for every
-// point p = s.points[k], bit-identical, in SSE, AVX2 or AVX-512 lanes as cpuIsa() allows
+// point p = points[k], bit-identical, in SSE, AVX2 or AVX-512 lanes as cpuIsa() allows
 // (core/cpu_isa.h; the final gather's lights use it too). s.values is not touched.
-void pointToTriangleFactors(const FarFieldScratch& s, float* out);
+void pointToTriangleFactors(std::span<const FarFieldScratch::Point> points, float* out);
 
 // shared::pairFactors(method, level, i, j), with the hybrid method's far cells vectorised.
 shared::PairFactors pairFactorsCpu(int method, int level, const shared::PatchGeometry& i,

@@ -1,8 +1,10 @@
 // The cpu backend's vectorised hybrid kernel (radiosity/hybrid_far_field.h) against its oracle,
 // the shared kernel (shared/formfactor.h) that the reference, vulkan and cuda backends run: the
 // same operations in the same order, so every factor must be bit-identical, for far pairs (the
-// vectorised lanes), near and clipped ones (the fallbacks) alike.
+// vectorised lanes), near pairs (their refinement's points in lanes too, hybrid_near_cells.h)
+// and clipped points (the fallback) alike.
 #include "radiosity/hybrid_far_field.h"
+#include "radiosity/hybrid_near_cells.h"
 
 #include <gtest/gtest.h>
 
@@ -127,6 +129,40 @@ TEST(HybridFarField, FarRootIsOneCellAtEveryLevel) {
     const double centre = 4.0 / (2.0 * M_PI) * (2.0 * a / s * std::atan(a / s));
     // i's centroid is 1/60 off the axis: the factor there differs from the centre's by ~1e-5.
     EXPECT_NEAR(f1, centre, 2e-4 * centre);
+}
+
+// Pairs with near cells, whose points the rule of hybrid_near_cells.h evaluates in lanes a
+// refinement step at a time: triangles sharing an edge or a corner at random fold angles, and
+// ones a hair apart, at levels 0..3 and at F's tolerance and the hierarchical transport's looser
+// one (more and fewer splits): bit-identical to the shared kernel, which refined most of them.
+TEST(HybridFarField, NearCellsAreBitIdenticalToTheSharedKernel) {
+    std::mt19937 rng(2026);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    int compared = 0, refined = 0;
+    for (int k = 0; k < 3000; ++k) {
+        const vec3 origin = k % 3 == 2 ? vec3(-300.0f, 80.0f, 1200.0f) : vec3(0.0f);
+        const float size = 0.1f + 0.4f * (u(rng) + 1.0f);
+        const PatchGeometry i = randomTriangle(rng, origin, size);
+        const vec3 far = origin + vec3(u(rng), u(rng), u(rng)) * (2.0f * size);
+        const vec3 gap = vec3(u(rng), u(rng), u(rng)) * (1e-3f * size);
+        const PatchGeometry j = k % 3 == 0 ? shared::makePatchGeometry(i.b, i.a, far)
+            : k % 3 == 1                   ? shared::makePatchGeometry(i.a, far, far + gap * 3e2f)
+                                           : shared::makePatchGeometry(i.b + gap, i.a + gap, far);
+        if (!(i.area > 1e-6f && j.area > 1e-6f) || shared::facingAway(i, j)) continue;
+        for (int level : {0, 1, 2, 3}) {
+            for (float tolerance : {DAISY_FF_REL_TOL, 1e-2f}) {
+                const float want = shared::hybridPairFactorWithin(level, i, j, true, tolerance);
+                FarFieldScratch scratch;
+                const float got = hybridNearPairFactor(level, i, j, tolerance, scratch);
+                ASSERT_EQ(got, want) << "pair " << k << " level " << level << " " << tolerance;
+                ++compared;
+                refined += shared::hybridPairFactorWithin(level, i, j, false, tolerance) ==
+                    DAISY_FF_NEEDS_NEAR_CELLS;
+            }
+        }
+    }
+    EXPECT_GT(compared, 8000);
+    EXPECT_GT(refined, compared / 2);
 }
 
 // Coplanar neighbours and a pair sharing an edge (the adaptive rule's cases) and the other
