@@ -83,10 +83,10 @@ template <int W>
     return select<W>(y < zero, -r, r);
 }
 
-// shared::pointToTriangleFactor(p_k, n_k, t_k) for the scratch's points, W at a time, each lane
-// with its own receiver normal and target triangle: the front test, the clip (taken only when
-// it keeps the whole triangle; other lanes call the shared function) and Lambert's contour sum of
-// shared::pointToPolygonFactor. Lanes are assembled from scalar loads.
+// shared::pointToTriangleFactor(p_k, n_k, t_k) for the points, W at a time, each lane with its
+// own receiver normal and target triangle: the front test, the clip (the shared function's, lane
+// by lane, where it cuts the triangle: a polygon of 3 or 4 corners) and Lambert's contour sum of
+// shared::pointToPolygonFactor over each lane's polygon. Lanes are assembled from scalar loads.
 template <int W>
 [[gnu::always_inline]] inline void pointToTriangleFactorsOf(
     std::span<const FarFieldScratch::Point> points, float* out) {
@@ -99,7 +99,10 @@ template <int W>
         const FarFieldScratch::Point* q[W];
         for (int k = 0; k < W; ++k)
             q[k] = &points[first + k < count ? first + k : count - 1];
-        F px, py, pz, nx, ny, nz, tnx, tny, tnz, cx[3], cy[3], cz[3];
+        // The polygon's corners (the triangle's unless clipped; corner 3 repeats corner 0 where
+        // there are 3) and how many it has.
+        F px, py, pz, nx, ny, nz, tnx, tny, tnz, cx[4], cy[4], cz[4];
+        I corners = I{} + 3;
         for (int k = 0; k < W; ++k) {
             const PatchGeometry& t = *q[k]->target;
             const vec3 n = q[k]->receiver->normal;
@@ -110,24 +113,49 @@ template <int W>
             cx[1][k] = t.b.x, cy[1][k] = t.b.y, cz[1][k] = t.b.z;
             cx[2][k] = t.c.x, cy[2][k] = t.c.y, cz[2][k] = t.c.z;
         }
+        cx[3] = cx[0], cy[3] = cy[0], cz[3] = cz[0];
         // In front of t: dot(t.normal, p - t.a) > 0.
         const I front = dot3(tnx, tny, tnz, px - cx[0], py - cy[0], pz - cz[0]) > zero;
-        F vx[3], vy[3], vz[3];
         I whole = zero == zero;
         for (int k = 0; k < 3; ++k) {
-            vx[k] = cx[k] - px;
-            vy[k] = cy[k] - py;
-            vz[k] = cz[k] - pz;
-            F d = dot3(nx, ny, nz, vx[k], vy[k], vz[k]);
-            const I onPlane = d * d <= eps2 * dot3(vx[k], vy[k], vz[k], vx[k], vy[k], vz[k]);
+            const F vx = cx[k] - px, vy = cy[k] - py, vz = cz[k] - pz;
+            F d = dot3(nx, ny, nz, vx, vy, vz);
+            const I onPlane = d * d <= eps2 * dot3(vx, vy, vz, vx, vy, vz);
             d = select<W>(onPlane, zero, d);
             whole &= d >= zero;
         }
+        for (int k = 0; k < W; ++k) {
+            if (front[k] == 0 || whole[k] != 0) continue;
+            const PatchGeometry& t = *q[k]->target;
+            const ClippedPolygon poly = shared::clipTriangleToHalfSpace(
+                t.a, t.b, t.c, q[k]->position, q[k]->receiver->normal);
+            corners[k] = poly.count;
+            for (int v = 0; v < poly.count; ++v)
+                cx[v][k] = poly.v[v].x, cy[v][k] = poly.v[v].y, cz[v][k] = poly.v[v].z;
+            if (poly.count == 3) cx[3][k] = cx[0][k], cy[3][k] = cy[0][k], cz[3][k] = cz[0][k];
+        }
+        F vx[4], vy[4], vz[4];
+        for (int k = 0; k < 4; ++k) {
+            vx[k] = cx[k] - px;
+            vy[k] = cy[k] - py;
+            vz[k] = cz[k] - pz;
+        }
+        const I four = corners == 4;
+        bool anyFour = false;
+        for (int k = 0; k < W; ++k)
+            anyFour = anyFour || four[k] != 0;
         F sum = zero;
-        for (int k = 0; k < 3; ++k) {
-            const int k1 = k == 2 ? 0 : k + 1;
+        for (int k = 0; k < (anyFour ? 4 : 3); ++k) {
+            // The next corner: k + 1, or back to 0 after the last (2 of a triangle, 3 of four).
+            const int k1 = k == 3 ? 0 : k + 1;
+            const F nextX = k == 2 ? select<W>(four, cx[3], cx[0]) : cx[k1];
+            const F nextY = k == 2 ? select<W>(four, cy[3], cy[0]) : cy[k1];
+            const F nextZ = k == 2 ? select<W>(four, cz[3], cz[0]) : cz[k1];
+            const F wx = k == 2 ? select<W>(four, vx[3], vx[0]) : vx[k1];
+            const F wy = k == 2 ? select<W>(four, vy[3], vy[0]) : vy[k1];
+            const F wz = k == 2 ? select<W>(four, vz[3], vz[0]) : vz[k1];
             // e_k = corner_k+1 - corner_k, g = cross(v_k, e_k)
-            const F ex = cx[k1] - cx[k], ey = cy[k1] - cy[k], ez = cz[k1] - cz[k];
+            const F ex = nextX - cx[k], ey = nextY - cy[k], ez = nextZ - cz[k];
             const F gx = vy[k] * ez - vz[k] * ey;
             const F gy = vz[k] * ex - vx[k] * ez;
             const F gz = vx[k] * ey - vy[k] * ex;
@@ -135,20 +163,16 @@ template <int W>
             F gLength;
             for (int l = 0; l < W; ++l)
                 gLength[l] = shared::sqrt(g2[l]);
-            const F gamma =
-                atan2Lanes<W>(gLength, dot3(vx[k], vy[k], vz[k], vx[k1], vy[k1], vz[k1]));
+            const F gamma = atan2Lanes<W>(gLength, dot3(vx[k], vy[k], vz[k], wx, wy, wz));
             const F term = gamma * (dot3(nx, ny, nz, gx, gy, gz) / gLength);
-            sum = sum + select<W>(gLength > zero, term, zero);
+            const I edge = k == 3 ? four : zero == zero;
+            sum = sum + select<W>(edge & (gLength > zero), term, zero);
         }
-        // max(0, -sum / (2 pi)) = x > 0 ? x : 0, and 0 behind t.
+        // max(0, -sum / (2 pi)) = x > 0 ? x : 0, and 0 behind t or when the clip left no polygon.
         const F f = -sum * DAISY_INV_TWO_PI;
-        const F value = select<W>(front, select<W>(f > zero, f, zero), zero);
-        for (int k = 0; k < W && first + k < count; ++k) {
-            const bool clipped = front[k] != 0 && whole[k] == 0;
-            out[first + k] = clipped ? shared::pointToTriangleFactor(
-                                           q[k]->position, q[k]->receiver->normal, *q[k]->target)
-                                     : value[k];
-        }
+        const F value = select<W>(front & (corners >= 3), select<W>(f > zero, f, zero), zero);
+        for (int k = 0; k < W && first + k < count; ++k)
+            out[first + k] = value[k];
     }
 }
 

@@ -6,9 +6,10 @@
 // is one cell; at the default L = 1 most pairs of a room), the pair's points join a batch whose
 // point-to-triangle factors are evaluated in SIMD lanes, each lane with its own pair, by the same
 // operations in the same order as the shared kernel, so every result is bit-identical to it
-// (checked by tests/radiosity/hybrid_far_field_test.cpp). Points whose view of j must be clipped
-// and the other methods are the shared kernel itself; pairs with a near cell and levels above 2
-// are the hybrid rule of hybrid_near_cells.h, its points also in lanes.
+// (checked by tests/radiosity/hybrid_far_field_test.cpp); a point that sees j cut by its own
+// plane gets the shared clip in its lane, and the contour sum over the polygon of 3 or 4 corners
+// left. Pairs with a near cell and levels above 2 are the hybrid rule of hybrid_near_cells.h, its
+// points also in lanes; the other methods are the shared kernel itself.
 #include <cstdint>
 #include <span>
 #include <vector>
