@@ -118,8 +118,9 @@ float hybridNearPairFactor(int level, const PatchGeometry& i, const PatchGeometr
         }
     }
 
-    // The refinement: the children of the cells [pendingBegin, pendingEnd) of `pending`, in one
-    // batch, then the shared kernel's decision; a split lists 4 cells whose children come next.
+    // The refinement: the children of the listed cells in `pending` (all of them at first), in
+    // one batch, then the shared kernel's decision; a split lists 4 cells whose children come
+    // next.
     int pending[DAISY_FF_MAX_CELLS];
     int pendingCount = 0;
     for (int k = 0; k < count; ++k)

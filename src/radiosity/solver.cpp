@@ -179,7 +179,6 @@ private:
     double gaussSeidelIteration();
     // delta_'s row i = next - last (Gauss-Seidel's extrapolation).
     void recordDelta(uint32_t i, const double* next, const double* last) {
-        if (delta_.empty()) return;
         float* d = delta_.data() + std::size_t(i) * m_;
         for (std::size_t k = 0; k < m_; ++k)
             d[k] = static_cast<float>(next[k] - last[k]);
