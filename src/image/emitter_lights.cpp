@@ -125,7 +125,8 @@ std::vector<LightTriangle> mergeEmitterFaces(const TriangleMesh& mesh,
         groups[std::size_t(groupOf[r])].push_back(i);
     }
     std::vector<LightTriangle> lights;
-    for (const std::vector<uint32_t>& members : groups) {
+    for (uint32_t group = 0; group < groups.size(); ++group) {
+        const std::vector<uint32_t>& members = groups[group];
         std::vector<uint32_t> loop;
         if (members.size() >= 3) {
             double area = 0;
@@ -136,13 +137,14 @@ std::vector<LightTriangle> mergeEmitterFaces(const TriangleMesh& mesh,
         if (!loop.empty() && loop.size() - 2 < members.size()) {
             for (std::size_t i = 1; i + 1 < loop.size(); ++i) {
                 lights.push_back({{points[loop[0]], points[loop[i]], points[loop[i + 1]]},
-                                  triangles[members.front()]});
+                                  triangles[members.front()],
+                                  group});
             }
             continue;
         }
         for (const uint32_t t : members) {
             lights.push_back(
-                {{points[ids[t][0]], points[ids[t][1]], points[ids[t][2]]}, triangles[t]});
+                {{points[ids[t][0]], points[ids[t][1]], points[ids[t][2]]}, triangles[t], group});
         }
     }
     return lights;

@@ -22,6 +22,10 @@ namespace daisy {
 struct LightTriangle {
     std::array<Vec3d, 3> corners;  // counter-clockwise seen from the front, as in the mesh
     uint32_t sourceTriangle;  // a triangle of the group it came from (its emission)
+    // Its group: the connected coplanar triangles of one emission it was merged from (or a
+    // group that stayed as it was), numbered 0, 1, ... in order; a group's lights are
+    // consecutive.
+    uint32_t group;
 };
 
 // The triangles of `mesh` listed in `triangles`, with `emissionClass[i]` equal for two of them
