@@ -108,8 +108,8 @@ public:
     const std::vector<double>& farScale() const { return farScale_; }
     const std::vector<float>& exposure() const { return exposure_; }
     // The far links' part of G = T B (n x m, overwritten), rows capped as the near part.
-    // sourceSlots: per slot (slots()), whether a patch below that node may have B != 0; the
-    // links from the others are skipped (empty: none is).
+    // sourceSlots: per slot (slots()), whether a node has a source below it; the others' B is
+    // taken as 0 (not read) and the links from them are skipped (empty: every node has).
     void farGather(std::span<const double> radiosity, std::size_t wavelengthCount,
                    std::span<double> gathered, std::span<const uint8_t> sourceSlots = {}) const;
 
