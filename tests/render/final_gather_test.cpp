@@ -456,11 +456,12 @@ TEST(FinalGather, ManyLightsAreImportanceSampledWithoutBias) {
     EXPECT_NEAR(error.meanRatio, 1.0, 0.002);
 }
 
-// Over 32 lights a coplanar group of one emission is drawn as one by its stand-in, then a light
-// in it by area: two discs, each a fan of 48 triangles (merged into fans of 46), one of them
-// tilted. Every pixel must be the closed form over both discs (nothing between), within the
-// estimate's spread, and the mean over the receiver within 0.2% of it (measured 0.005%): the
-// draw's probabilities are the group's and the area's, or the image would be biased.
+// Over 32 lights a run of a coplanar group of one emission is drawn as one by its stand-in,
+// then a light in it by area: two discs, each a fan of 48 triangles (merged into fans of 46,
+// drawn in runs of 32 and 14), one of them tilted. Every pixel must be the closed form over both
+// discs (nothing between), within the estimate's spread, and the mean over the receiver within 0.2%
+// of it (measured 0.004%): the draw's probabilities are the group's and the area's, or the image
+// would be biased.
 TEST(FinalGather, GroupsOfCoplanarLightsAreDrawnAsOneWithoutBias) {
     Plates p;
     p.scene.path = "two discs";
