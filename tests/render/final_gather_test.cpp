@@ -389,6 +389,28 @@ TEST(FinalGather, PunctualLightsAreGatheredPerSampleNotFromThePatchesTheyLight) 
 // K = 64: 4.8% rms, 38% with the first pass alone), and the mean over the receiver unbiased
 // (measured: 5e-5; weighting each light's open segments by area instead of by the kernel
 // cos cos / r^2 made it 2% bright, which the bound of three standard errors, 0.6%, refuses).
+// The gathered image of p's unit receiver (material 0, reflectance 0.5) under `sources`
+// (material 1, E = 1, nothing between them and it) against the closed form sum over them of
+// rho F(x -> source) / pi, seen from the plates' camera.
+ReceiverError unoccludedSourcesError(Plates& p, const std::vector<std::vector<Vec3d>>& sources) {
+    p.scene.materials = {flat(0.5, 0), flat(0, 1)};
+    p.camera = plates().camera;
+    Session session = solvedSession(p);
+    RenderSettings settings;
+    settings.width = 48;
+    settings.height = 36;
+    auto lit = renderDirectLight(session.scene(), session.patches(), session.system(),
+                                 session.wavelengths(), p.camera, settings, {}, false);
+    EXPECT_TRUE(lit.ok()) << lit.error().message;
+    if (!lit) return {};
+    return receiverError(session, p.camera, *lit, [&](const Vec3d& point) {
+        double exact = 0;
+        for (const auto& source : sources)
+            exact += 0.5 * verify::pointToPolygon(point, {0, 0, 1}, source) / kPi;
+        return exact;
+    });
+}
+
 TEST(FinalGather, PenumbraPixelsTakeTheFullSegmentCountWithoutBias) {
     Plates p = plates();
     constexpr double kHeight = 0.9;
@@ -434,21 +456,7 @@ TEST(FinalGather, ManyLightsAreImportanceSampledWithoutBias) {
                             sources.back()[3], 1);
         }
     }
-    p.scene.materials = {flat(0.5, 0), flat(0, 1)};
-    p.camera = plates().camera;
-    Session session = solvedSession(p);
-    RenderSettings settings;
-    settings.width = 48;
-    settings.height = 36;
-    auto lit = renderDirectLight(session.scene(), session.patches(), session.system(),
-                                 session.wavelengths(), p.camera, settings, {}, false);
-    ASSERT_TRUE(lit.ok()) << lit.error().message;
-    const ReceiverError error = receiverError(session, p.camera, *lit, [&](const Vec3d& point) {
-        double exact = 0;
-        for (const auto& source : sources)
-            exact += 0.5 * verify::pointToPolygon(point, {0, 0, 1}, source) / kPi;
-        return exact;
-    });
+    const ReceiverError error = unoccludedSourcesError(p, sources);
     ASSERT_GT(error.pixels, 60);
     const double rms = error.rms;
     EXPECT_LT(rms, 8e-4);  // 16 segments a pixel, as K / 4 gave, were 0.12%
@@ -486,21 +494,7 @@ TEST(FinalGather, GroupsOfCoplanarLightsAreDrawnAsOneWithoutBias) {
     };
     addDisc({0.28, 0.5, 1.0}, 0.22, 0.0);
     addDisc({0.78, 0.5, 1.0}, 0.14, -25.0 * kPi / 180);
-    p.scene.materials = {flat(0.5, 0), flat(0, 1)};
-    p.camera = plates().camera;
-    Session session = solvedSession(p);
-    RenderSettings settings;
-    settings.width = 48;
-    settings.height = 36;
-    auto lit = renderDirectLight(session.scene(), session.patches(), session.system(),
-                                 session.wavelengths(), p.camera, settings, {}, false);
-    ASSERT_TRUE(lit.ok()) << lit.error().message;
-    const ReceiverError error = receiverError(session, p.camera, *lit, [&](const Vec3d& point) {
-        double exact = 0;
-        for (const auto& disc : discs)
-            exact += 0.5 * verify::pointToPolygon(point, {0, 0, 1}, disc) / kPi;
-        return exact;
-    });
+    const ReceiverError error = unoccludedSourcesError(p, discs);
     ASSERT_GT(error.pixels, 60);
     const double rms = error.rms;
     EXPECT_LT(rms, 3e-3);  // measured 0.14%
