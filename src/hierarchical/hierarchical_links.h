@@ -36,8 +36,9 @@
 //   power; then, when Phi / 2 exceeds visibilityShare x epsilon, farRays / 2 segments between
 //   the nodes' exposed parts decide: partly blocked, the pair is refined (partial visibility is
 //   a reason to refine); else V comes from farRays / 2 more, independent of that decision; a
-//   smaller pair's V from farRays / 4, or one segment when Phi <= visibilityShare x epsilon;
-//   V = 0: no link;
+//   smaller pair's V from farRays / 4, or one segment when Phi <= visibilityShare x epsilon,
+//   a pair that is kept by Russian roulette with probability Phi / (visibilityShare x
+//   epsilon) and then carries its estimate over that probability; V = 0: no link;
 // - otherwise the side with the larger sphere is split (a leaf never is); two patches become a
 //   near link.
 #include <cstdint>
@@ -130,6 +131,7 @@ struct LinkStats {
     uint64_t facingAway = 0;  // pairs dropped: one side faces wholly away
     uint64_t hidden = 0;  // far pairs dropped: no segment got through
     uint64_t partlyVisibleRefined = 0;  // far pairs refined for partial visibility
+    uint64_t rouletteDropped = 0;  // far pairs within the visibility share left out by roulette
     uint64_t raysCast = 0;  // far links' segments (the near links' are the evaluator's)
     uint64_t nearPairsEvaluated = 0;  // patch pairs handed to the evaluator
     double refineSeconds = 0;

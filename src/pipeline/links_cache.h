@@ -22,7 +22,7 @@ namespace daisy {
 // Bump when the key's byte stream, the file layout, HierarchyNode, FarHalfLinks or LinkStats
 // change, or the rules that make the links or the exposed parts they are sampled on
 // (radiosity/patch_exposure.h): an entry would give other links than a build.
-inline constexpr uint32_t kLinksCacheVersion = 8;
+inline constexpr uint32_t kLinksCacheVersion = 9;
 
 using LinksKey = Hash128;
 

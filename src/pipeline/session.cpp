@@ -598,7 +598,8 @@ Expected<FormFactorReport> Session::buildHierarchical(const std::string& backend
                        formatDuration(report.seconds), " on cpu"));
     s.stageDetail(concat("hierarchy: ", formatCount(stats.candidates), " node pairs examined, ",
                          formatCount(stats.facingAway), " facing away, ", formatCount(stats.hidden),
-                         " hidden, ", formatCount(stats.partlyVisibleRefined),
+                         " hidden, ", formatCount(stats.rouletteDropped), " left out by roulette, ",
+                         formatCount(stats.partlyVisibleRefined),
                          " refined for partial visibility; ", formatCount(stats.raysCast),
                          " far-link rays; refinement ", formatDuration(stats.refineSeconds),
                          ", near factors ", formatDuration(stats.nearSeconds)));
