@@ -320,8 +320,8 @@ void HierarchicalTransport::gatherFrom(std::span<const uint8_t> sources,
     // The far links from nodes with a source below them only: a few emitters' light (the
     // direct light the image's final gather takes out) comes through a small part of them.
     // The sources' radiosity is read where it is: farGather takes the others' as 0, and so do
-    // the near rows below, with no masked copy of B (at 500,004 patches the copies and their
-    // first touch were most of this function's 3 s).
+    // the near rows below, with no masked copy of B and no full arrays of the near part or the
+    // sum (370 MB less at 500,004 patches and 31 wavelengths).
     const std::size_t nodes = tree_.nodes.size();
     std::vector<uint8_t> below(nodes, 0), sourceSlots(nodes > 0 ? slot_[nodes] : 0, 0);
     for (std::size_t k = nodes; k-- > 0;) {
