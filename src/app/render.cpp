@@ -72,7 +72,8 @@ std::string skippedViewFactors(const Session& session, const FormFactorReport& f
         return concat("skipped: ", percentOf(n * n - l.nearEntries, n * n),
                       " of the patch pairs have no factor of their own (", formatCount(l.farLinks),
                       " far links between nodes stand for them; ", formatCount(l.nearEntries),
-                      " near factors); ", formatCount(l.hidden), " node pairs found hidden and ",
+                      " near factors); ", formatCount(l.hidden), " node pairs found hidden, ",
+                      formatCount(l.rouletteDropped), " left out by roulette and ",
                       formatCount(l.facingAway), " facing away, with ", formatCount(l.raysCast),
                       " far-link rays");
     }
