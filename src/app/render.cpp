@@ -170,6 +170,8 @@ int pathTracedRender(const CommonOptions& options, const RenderOptions& render,
     settings.spectral = render.spectralExr;
     auto traced =
         pathTrace(session.scene(), session.wavelengths(), camera, settings, &interruptToken());
+    // Stopped by SIGINT / SIGTERM before the watchdog printed its line: that line and 130.
+    if ((!traced || traced->cancelled) && interruptSignal() != 0) exitInterrupted();
     if (!traced) {
         logError(concat(options.scenePath, ": ", traced.error().message));
         return 2;

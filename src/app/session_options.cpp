@@ -62,17 +62,18 @@ SolveRequest interruptibleSolve() {
 }
 
 bool buildAndSolve(Session& session, FormFactorReport* report) {
-    auto formFactors = session.buildFormFactors(&interruptToken());
-    if (!formFactors) {
-        logError(formFactors.error().message);
+    // A stage stopped by SIGINT / SIGTERM returns its "interrupted" error, maybe before the
+    // watchdog has printed its line: that line and 130, as main() does, not this error and 2.
+    const auto fail = [](const Error& error) {
+        if (interruptSignal() != 0) exitInterrupted();
+        logError(error.message);
         return false;
-    }
+    };
+    auto formFactors = session.buildFormFactors(&interruptToken());
+    if (!formFactors) return fail(formFactors.error());
     if (report) *report = *formFactors;
     auto solved = session.solve(interruptibleSolve());
-    if (!solved) {
-        logError(solved.error().message);
-        return false;
-    }
+    if (!solved) return fail(solved.error());
     return true;
 }
 
