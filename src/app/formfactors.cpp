@@ -82,7 +82,7 @@ int runFormFactors(const CommonOptions& given, const ExportOptions& exports) {
     if (!session) return 2;
     auto run = session->buildFormFactors(&interruptToken());
     if (!run) {
-        logError(run.error().message);
+        logStageError(run.error());
         return 2;
     }
     const Transport& transport = session->transport();

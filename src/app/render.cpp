@@ -170,16 +170,12 @@ int pathTracedRender(const CommonOptions& options, const RenderOptions& render,
     settings.spectral = render.spectralExr;
     auto traced =
         pathTrace(session.scene(), session.wavelengths(), camera, settings, &interruptToken());
-    // Stopped by SIGINT / SIGTERM before the watchdog printed its line: that line and 130.
-    if ((!traced || traced->cancelled) && interruptSignal() != 0) exitInterrupted();
     if (!traced) {
-        logError(concat(options.scenePath, ": ", traced.error().message));
+        logStageError(Error{concat(options.scenePath, ": ", traced.error().message)});
         return 2;
     }
-    if (traced->cancelled) {
-        logError(concat(options.scenePath, ": path trace cancelled; no image written"));
-        return 1;
-    }
+    // Only SIGINT / SIGTERM cancel the interrupt token: the watchdog's line and 130.
+    if (traced->cancelled) exitInterrupted();
     Timer stage;
     auto scale = writeRendered(render, *exposure, *background, traced->image, session.wavelengths(),
                                render.spectralExr);

@@ -61,19 +61,23 @@ SolveRequest interruptibleSolve() {
     return request;
 }
 
+void logStageError(const Error& error) {
+    if (interruptSignal() != 0) exitInterrupted();
+    logError(error.message);
+}
+
 bool buildAndSolve(Session& session, FormFactorReport* report) {
-    // A stage stopped by SIGINT / SIGTERM returns its "interrupted" error, maybe before the
-    // watchdog has printed its line: that line and 130, as main() does, not this error and 2.
-    const auto fail = [](const Error& error) {
-        if (interruptSignal() != 0) exitInterrupted();
-        logError(error.message);
-        return false;
-    };
     auto formFactors = session.buildFormFactors(&interruptToken());
-    if (!formFactors) return fail(formFactors.error());
+    if (!formFactors) {
+        logStageError(formFactors.error());
+        return false;
+    }
     if (report) *report = *formFactors;
     auto solved = session.solve(interruptibleSolve());
-    if (!solved) return fail(solved.error());
+    if (!solved) {
+        logStageError(solved.error());
+        return false;
+    }
     return true;
 }
 

@@ -14,6 +14,12 @@ SessionSettings sessionSettingsFrom(const CommonOptions& options, PatchSizeDefau
 Expected<Session> openSession(const CommonOptions& options, PatchSizeDefault defaultSize,
                               const std::function<Expected<void>(const Scene&)>& afterLoad = {});
 
+// Prints the error of a stage that SIGINT / SIGTERM can stop (the interrupt token's). When a
+// signal stopped it, the stage's own "interrupted" error may arrive before the signal watchdog
+// has printed its line: then that line and exit status 130 instead (core/interrupt.h), as
+// main() does for the errors that reach it.
+void logStageError(const Error& error);
+
 // A solve that SIGINT / SIGTERM cancel (core/interrupt.h) and that takes a converged solution
 // from the disk cache when it holds one (pipeline/solution_cache.h).
 SolveRequest interruptibleSolve();

@@ -86,7 +86,7 @@ int runSolve(const CommonOptions& options, const ExportOptions& exports) {
     if (!session) return 2;
     auto solved = session->solve(interruptibleSolve());
     if (!solved) {
-        logError(solved.error().message);
+        logStageError(solved.error());
         return 2;
     }
     if (verbosity() == Verbosity::Verbose) {

@@ -412,11 +412,10 @@ private:
         for (std::size_t g = 0; g < cdf_.size(); ++g) {
             const LightGroup& group = groups_.groups[g];
             const Light& light = lights_[group.first];
-            float factor = factor_[group.first];  // exact: the groups are single lights
-            if (!exactWeights_) {
-                factor = group.count == 1 ? approximateFactor(light.geometry, x, n)
-                                          : groupFactor(group, light.geometry.normal, x, n);
-            }
+            // Exact weights: the groups are single lights.
+            const float factor = exactWeights_ ? factor_[group.first]
+                : group.count == 1             ? approximateFactor(light.geometry, x, n)
+                                               : groupFactor(group, light.geometry.normal, x, n);
             total_ += factor > 0 ? double(factor) * light.power : 0.0;
             cdf_[g] = total_;
         }
